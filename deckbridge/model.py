@@ -1,0 +1,376 @@
+"""Neutral model of a thin-walled skirt standing on a table: YAML <-> validated, frozen objects.
+
+Units are SI (N, m, Pa). Azimuths are in degrees, counter-clockwise from +x, in [0, 360).
+Every check raises :class:`ModelError`, whose message is one line naming the key and the value.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import re
+from dataclasses import dataclass, field, fields
+from importlib import resources
+from pathlib import Path
+from typing import Any, Mapping
+
+import yaml
+
+__all__ = [
+    "ModelError", "Geometry", "MeshSpec", "Material", "Stop", "Penalty", "Contact",
+    "Loads", "Steps", "Outputs", "Model", "default_text", "load", "loads_model",
+    "apply_overrides", "parse_override",
+]
+
+NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,39}$")
+
+
+class ModelError(ValueError):
+    """Invalid model input; ``str(err)`` is one line: ``key = value: reason``."""
+
+    def __init__(self, key: str, value: Any, reason: str):
+        self.key, self.value, self.reason = key, value, reason
+        super().__init__(f"{key} = {value!r}: {reason}")
+
+
+def _num(key: str, value: Any, *, gt: float | None = None, ge: float | None = None,
+         lt: float | None = None) -> float:
+    if isinstance(value, str):  # YAML 1.1 reads 1.0e9 (no exponent sign) as a string
+        try:
+            value = float(value.strip())
+        except ValueError:
+            raise ModelError(key, value, "must be a number") from None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ModelError(key, value, "must be a number")
+    v = float(value)
+    if not math.isfinite(v):
+        raise ModelError(key, value, "must be finite")
+    if gt is not None and not v > gt:
+        raise ModelError(key, value, f"must be > {gt:g}")
+    if ge is not None and not v >= ge:
+        raise ModelError(key, value, f"must be >= {ge:g}")
+    if lt is not None and not v < lt:
+        raise ModelError(key, value, f"must be < {lt:g}")
+    return v
+
+
+def _opt_num(key: str, value: Any, **bounds) -> float | None:
+    return None if value is None else _num(key, value, **bounds)
+
+
+def _int(key: str, value: Any, *, ge: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        if isinstance(value, float) and value.is_integer():
+            value = int(value)
+        else:
+            raise ModelError(key, value, "must be an integer")
+    if value < ge:
+        raise ModelError(key, value, f"must be >= {ge}")
+    return int(value)
+
+
+def _put(obj: Any, name: str, value: Any) -> None:
+    """Store a validated, converted value on a frozen dataclass."""
+    object.__setattr__(obj, name, value)
+
+
+def _choice(key: str, value: Any, choices: tuple[str, ...]) -> str:
+    if value not in choices:
+        raise ModelError(key, value, f"must be one of {', '.join(choices)}")
+    return value
+
+
+def _text(key: str, value: Any, *, max_len: int = 200) -> str:
+    if not isinstance(value, str):
+        raise ModelError(key, value, "must be a string")
+    if len(value) > max_len:
+        raise ModelError(key, value, f"longer than {max_len} characters")
+    return value
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Mid-wall radius at the base, height, wall thickness, optional top radius (cone) [m]."""
+    radius: float = 1.5
+    height: float = 2.0
+    thickness: float = 0.02
+    top_radius: float | None = None
+
+    def __post_init__(self):
+        _put(self, "radius", _num("geometry.radius", self.radius, gt=0))
+        _put(self, "height", _num("geometry.height", self.height, gt=0))
+        _put(self, "thickness", _num("geometry.thickness", self.thickness, gt=0))
+        if self.thickness >= self.radius:
+            raise ModelError("geometry.thickness", self.thickness, "must be smaller than geometry.radius")
+        if self.top_radius is not None:
+            _put(self, "top_radius", _num("geometry.top_radius", self.top_radius, gt=0))
+            if self.thickness >= self.top_radius:
+                raise ModelError("geometry.top_radius", self.top_radius, "must exceed geometry.thickness")
+
+    @property
+    def r_top(self) -> float:
+        return self.radius if self.top_radius is None else float(self.top_radius)
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    """Hexahedral mesh divisions: around, along the height, through the wall."""
+    n_theta: int = 72
+    n_z: int = 30
+    n_r: int = 2
+
+    def __post_init__(self):
+        _put(self, "n_theta", _int("mesh.n_theta", self.n_theta, ge=8))
+        _put(self, "n_z", _int("mesh.n_z", self.n_z, ge=1))
+        _put(self, "n_r", _int("mesh.n_r", self.n_r, ge=1))
+
+
+@dataclass(frozen=True)
+class Material:
+    """Linear isotropic material: E [Pa], nu [-]."""
+    name: str = "steel"
+    E: float = 210.0e9
+    nu: float = 0.3
+
+    def __post_init__(self):
+        _text("material.name", self.name, max_len=60)
+        _put(self, "E", _num("material.E", self.E, gt=0))
+        _put(self, "nu", _num("material.nu", self.nu, gt=-1.0, lt=0.5))
+
+    @property
+    def bulk_modulus(self) -> float:
+        """K = E / (3 (1 - 2 nu)) [Pa]."""
+        return self.E / (3.0 * (1.0 - 2.0 * self.nu))
+
+
+@dataclass(frozen=True)
+class Stop:
+    """Vertical radial stop: a rigid cylinder touching the ``inner`` or ``outer`` wall face."""
+    side: str = "inner"
+    radius: float | None = None
+
+    def __post_init__(self):
+        _choice("contact.stop.side", self.side, ("inner", "outer", "none"))
+        _put(self, "radius", _opt_num("contact.stop.radius", self.radius, gt=0))
+
+
+@dataclass(frozen=True)
+class Penalty:
+    """Penalty parameters. k_c = alpha * A^2 * K / V per slave node unless k_normal is given [N/m]."""
+    alpha: float = 0.1
+    k_normal: float | None = None
+    k_tangent: float | None = None
+    open_ratio: float = 1.0e-6
+
+    def __post_init__(self):
+        _put(self, "alpha", _num("contact.penalty.alpha", self.alpha, gt=0))
+        _put(self, "k_normal", _opt_num("contact.penalty.k_normal", self.k_normal, gt=0))
+        _put(self, "k_tangent", _opt_num("contact.penalty.k_tangent", self.k_tangent, gt=0))
+        _put(self, "open_ratio", _num("contact.penalty.open_ratio", self.open_ratio, gt=0, lt=1))
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Base-ring slave nodes on the table plane z = 0 and on the radial stop."""
+    stop: Stop = field(default_factory=Stop)
+    penalty: Penalty = field(default_factory=Penalty)
+    friction: float = 0.0
+
+    def __post_init__(self):
+        _put(self, "friction", _num("contact.friction", self.friction, ge=0))
+
+
+@dataclass(frozen=True)
+class Loads:
+    """Loads at the top-centre reference node.
+
+    N [N] compresses the skirt (step 1, kept in step 2). M [N m] opens the side at ``azimuth``;
+    T [N] acts horizontally towards ``azimuth + 180`` so that its base moment T*H adds to M.
+    """
+    N: float = 2.7e6
+    T: float = 2.0e5
+    M: float = 3.0e6
+    azimuth: float = 0.0
+
+    def __post_init__(self):
+        _put(self, "N", _num("loads.N", self.N, ge=0))
+        _put(self, "T", _num("loads.T", self.T))
+        _put(self, "M", _num("loads.M", self.M))
+        _put(self, "azimuth", _num("loads.azimuth", self.azimuth, ge=0, lt=360))
+
+
+@dataclass(frozen=True)
+class Steps:
+    """Step 1 applies N; step 2 ramps T and M to lambda_max in equal increments."""
+    lambda_max: float = 1.0
+    increments: int = 10
+
+    def __post_init__(self):
+        _put(self, "lambda_max", _num("steps.lambda_max", self.lambda_max, gt=0))
+        _put(self, "increments", _int("steps.increments", self.increments, ge=1))
+
+
+@dataclass(frozen=True)
+class Outputs:
+    """What the reference solver writes besides contact.csv and summary.json."""
+    vtu: bool = True
+
+    def __post_init__(self):
+        if not isinstance(self.vtu, bool):
+            raise ModelError("outputs.vtu", self.vtu, "must be true or false")
+
+
+@dataclass(frozen=True)
+class Model:
+    """The neutral model, validated on construction and immutable."""
+    name: str = "JAR"
+    title: str = "Ariane booster rear skirt on launch table"
+    geometry: Geometry = field(default_factory=Geometry)
+    mesh: MeshSpec = field(default_factory=MeshSpec)
+    material: Material = field(default_factory=Material)
+    contact: Contact = field(default_factory=Contact)
+    load_introduction: str = "distributing"
+    loads: Loads = field(default_factory=Loads)
+    steps: Steps = field(default_factory=Steps)
+    outputs: Outputs = field(default_factory=Outputs)
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not NAME_RE.match(self.name):
+            raise ModelError("name", self.name,
+                             "must be 1-40 letters, digits, '_', '-', '.' starting with a letter or digit")
+        _text("title", self.title)
+        _choice("load_introduction", self.load_introduction, ("distributing", "kinematic"))
+
+    # --- conversions -------------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> "Model":
+        return _build(cls, data, "")
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+    def to_yaml(self) -> str:
+        return yaml.safe_dump(self.to_dict(), sort_keys=False)
+
+    def with_overrides(self, overrides: Mapping[str, Any] | list[str]) -> "Model":
+        return Model.from_dict(apply_overrides(self.to_dict(), overrides))
+
+    # --- derived quantities -------------------------------------------------------------
+    def load_vectors(self) -> dict[str, "tuple[float, float, float]"]:
+        """Force and moment vectors at the top-centre reference node [N], [N m].
+
+        ``N_force``: (0, 0, -N), step 1 (kept in step 2). ``T_force`` and ``M_moment`` at lambda = 1,
+        ramped in step 2: M opens (lifts) the side at azimuth a, T points towards a + 180 deg, so that
+        its base moment T*H adds to M: M_b = M + T*H.
+        """
+        a = math.radians(self.loads.azimuth)
+        c, s = math.cos(a), math.sin(a)
+        return {
+            "N_force": (0.0, 0.0, -self.loads.N),
+            "T_force": (-self.loads.T * c, -self.loads.T * s, 0.0),
+            "M_moment": (self.loads.M * s, -self.loads.M * c, 0.0),
+        }
+
+    @property
+    def base_moment(self) -> float:
+        """M_b = M + T*H at lambda = 1 [N m] (opens the side at loads.azimuth)."""
+        return self.loads.M + self.loads.T * self.geometry.height
+
+
+def _build(cls, data: Any, prefix: str):
+    if not isinstance(data, Mapping):
+        raise ModelError(prefix.rstrip(".") or "model", data, "must be a mapping")
+    known = {f.name: f for f in fields(cls)}
+    for key in data:
+        if key not in known:
+            raise ModelError(f"{prefix}{key}", data[key], "unknown key")
+    kwargs = {}
+    for name, f in known.items():
+        if name not in data:
+            continue
+        value = data[name]
+        sub = _dataclass_type(f)
+        kwargs[name] = _build(sub, value, f"{prefix}{name}.") if sub is not None else value
+    return cls(**kwargs)
+
+
+def _dataclass_type(f: dataclasses.Field):
+    if f.default_factory is not dataclasses.MISSING:
+        default = f.default_factory()
+        if dataclasses.is_dataclass(default):
+            return type(default)
+    return None
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """Parse ``key.sub=value``; the value is read as YAML (numbers, null, strings)."""
+    if "=" not in text:
+        raise ModelError("--set", text, "expected key.sub=value")
+    key, raw = text.split("=", 1)
+    key = key.strip()
+    if not key:
+        raise ModelError("--set", text, "empty key")
+    try:
+        value = yaml.safe_load(raw) if raw.strip() else None
+    except yaml.YAMLError:
+        value = raw
+    return key, value
+
+
+def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, Any] | list[str]) -> dict:
+    """Return a deep copy of ``data`` with dotted-key overrides applied. Unknown keys raise."""
+    out = copy.deepcopy(dict(data))
+    items = overrides.items() if isinstance(overrides, Mapping) else [parse_override(o) for o in overrides]
+    template = Model().to_dict()
+    for key, value in items:
+        parts = key.split(".")
+        node, tmpl = out, template
+        for i, part in enumerate(parts):
+            if not isinstance(tmpl, dict) or part not in tmpl:
+                raise ModelError(key, value, "unknown key")
+            if i == len(parts) - 1:
+                if isinstance(tmpl[part], dict):
+                    raise ModelError(key, value, "is a section, set one of its keys")
+                node[part] = value
+            else:
+                node = node.setdefault(part, {})
+                if not isinstance(node, dict):
+                    raise ModelError(".".join(parts[: i + 1]), node, "must be a mapping")
+                tmpl = tmpl[part]
+    return out
+
+
+def default_text() -> str:
+    """The commented YAML of the embedded default JAR model."""
+    return resources.files("deckbridge").joinpath("data/default_jar.yaml").read_text()
+
+
+def loads_model(text: str, source: str = "<string>") -> Model:
+    """Build a model from YAML text (safe loader)."""
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" line {mark.line + 1}" if mark is not None else ""
+        raise ModelError(source, "<yaml>", f"not valid YAML{where}") from None
+    if data is None:
+        data = {}
+    return Model.from_dict(data)
+
+
+def load(path: str | Path | None = None, overrides: list[str] | Mapping[str, Any] | None = None) -> Model:
+    """Load a model file (or the embedded default when ``path`` is None) and apply overrides."""
+    if path is None:
+        text, source = default_text(), "default JAR model"
+    else:
+        p = Path(path)
+        try:
+            text = p.read_text()
+        except OSError as exc:
+            raise ModelError("model", str(p), f"cannot read file ({exc.strerror})") from None
+        source = str(p)
+    model = loads_model(text, source)
+    if overrides:
+        model = model.with_overrides(overrides)
+    return model
