@@ -1,0 +1,1 @@
+"""Runners of external solvers (MYSTRAN, CalculiX) on decks written by deckbridge."""
