@@ -1,0 +1,204 @@
+"""Comparison of several sources at matching load factors: :func:`compare_tables` -> ComparisonResult.
+
+Default load factors: the end of step 1 (N only, lambda = 0), the first common load factor at or
+after the first liftoff of any source (the closest one when none is after it), and the end of
+step 2 (the smallest lambda_max of the sources). Requested load factors replace them; a source
+lacking one is interpolated linearly between its increments, or refused when outside its range.
+Pair differences are sigma_b - sigma_a, pairs taken in source order (a before b).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..errors import DeckbridgeError
+from .align import align
+from .metrics import liftoff_load_factor, liftoff_zones, pair_metrics, peak_compression, zone_iou
+from .series import LAMBDA_TOL, Profile, Series, split_tables
+
+
+@dataclass
+class PointResult:
+    """Everything compared at one load factor."""
+    load_factor: float
+    what: str                                   # why this load factor ('end of step 1 (N only)', ...)
+    labels: list[str]                           # sources compared here (others lack this load factor)
+    profiles: dict[str, Profile]                # each source on its own azimuths
+    aligned: pd.DataFrame                       # sigma_N [Pa] on the common grid, one column per label
+    zones: dict[str, list[list[float]]]
+    peaks: dict[str, tuple[float, float]]       # (sigma_N [Pa], theta [deg]) of the peak compression
+    pairs: list[dict]
+    skipped: list[str] = field(default_factory=list)
+
+
+@dataclass
+class ComparisonResult:
+    """Sources, the load factors they were compared at, and the metrics (see :meth:`summary`)."""
+    series: list[Series]
+    points: list[PointResult]
+    liftoff: dict[str, float | None]
+
+    @property
+    def labels(self) -> list[str]:
+        return [s.label for s in self.series]
+
+    @property
+    def primary(self) -> PointResult:
+        """The point the top-level summary and sigma_n.png describe: the last (largest) load factor."""
+        return self.points[-1]
+
+    def discrepancy(self) -> pd.DataFrame:
+        """Per compared load factor and azimuth: sigma_N of each source and each pair's difference [Pa]."""
+        frames = []
+        for pt in self.points:
+            df = pd.DataFrame({"load_factor": pt.load_factor, "theta_deg": pt.aligned.index.to_numpy()})
+            for lab in self.labels:
+                df[f"sigma_n_pa {lab}"] = pt.aligned[lab].to_numpy() if lab in pt.aligned else np.nan
+            for a, b in itertools.combinations(self.labels, 2):
+                ok = a in pt.aligned and b in pt.aligned
+                df[f"diff_pa {b} - {a}"] = (pt.aligned[b] - pt.aligned[a]).to_numpy() if ok else np.nan
+            frames.append(df)
+        return pd.concat(frames, ignore_index=True)
+
+    def summary(self) -> dict:
+        """JSON-ready summary: per source and per pair at the primary load factor, then every point."""
+        prim = self.primary
+        sources = {}
+        for s in self.series:
+            lo, hi = s.lf_range
+            peak = prim.peaks.get(s.label)
+            sources[s.label] = {
+                "source": s.source, "method": s.method, "input": s.origin, "n_theta": s.n_theta,
+                "load_factor_range": [lo, hi],
+                "liftoff_load_factor": self.liftoff[s.label],
+                "liftoff_zones": prim.zones.get(s.label),
+                "peak_compression_pa": None if peak is None else peak[0],
+                "peak_compression_theta_deg": None if peak is None else peak[1],
+            }
+        return _clean({
+            "conventions": "sigma_n < 0 compression, > 0 tension/liftoff [Pa]; theta [deg] CCW from +x; "
+                           "pair differences are sigma_b - sigma_a; liftoff zones [start, end] CCW, "
+                           "start > end wraps through 0; overlap = intersection over union on the circle; "
+                           "liftoff_load_factor = onset at the first table slave node; zones and peaks from the "
+                           "through-wall mean sigma_n per azimuth",
+            "load_factors": [p.load_factor for p in self.points],
+            "primary_load_factor": prim.load_factor,
+            "sources": sources,
+            "pairs": prim.pairs,
+            "comparisons": [{
+                "load_factor": p.load_factor, "what": p.what, "sources_compared": p.labels,
+                "sources_skipped": p.skipped,
+                "sources": {lab: {"liftoff_zones": p.zones[lab], "peak_compression_pa": p.peaks[lab][0],
+                                  "peak_compression_theta_deg": p.peaks[lab][1]} for lab in p.labels},
+                "pairs": p.pairs,
+            } for p in self.points],
+        })
+
+
+def _clean(obj):
+    """Plain Python types for JSON; non-finite floats become None."""
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    return obj
+
+
+def _same(a: float, b: float) -> bool:
+    return abs(a - b) <= LAMBDA_TOL * max(1.0, abs(a), abs(b))
+
+
+def default_load_factors(series: list[Series], liftoff: dict[str, float | None]) -> list[tuple[float, str]]:
+    """(lambda, why) of the default comparison points (see module doc)."""
+    pts: list[tuple[float, str]] = []
+    if any(s.covers(0.0) for s in series):
+        pts.append((0.0, "end of step 1 (N only)"))
+    step2 = [s for s in series if s.lf_range[1] > LAMBDA_TOL]
+    lam_max = min((s.lf_range[1] for s in step2), default=None)
+    firsts = [v for v in liftoff.values() if v is not None]
+    if lam_max is not None and firsts:
+        first = min(firsts)
+        if LAMBDA_TOL < first < lam_max and not _same(first, lam_max):
+            common = None
+            for s in step2:
+                lfs = {round(float(x), 9) for x in s.load_factors if 0.0 < x <= lam_max * (1 + LAMBDA_TOL)}
+                common = lfs if common is None else common & lfs
+            cands = sorted(common or [])
+            after = [c for c in cands if c >= first - LAMBDA_TOL * max(1.0, first)]
+            if after:
+                lam = after[0]
+            elif cands:
+                lam = min(cands, key=lambda c: abs(c - first))
+            else:
+                lam = first
+            if not _same(lam, lam_max) and lam > LAMBDA_TOL:
+                pts.append((float(lam), f"first liftoff of any source (lambda = {first:.4g})"))
+    if lam_max is not None:
+        pts.append((float(lam_max), "end of step 2 (lambda_max)"))
+    if not pts:
+        raise DeckbridgeError("the sources share no load factor to compare at")
+    return pts
+
+
+def compare_at(series: list[Series], lam: float, what: str, strict: bool) -> PointResult:
+    """Compare the series at load factor ``lam``; ``strict``: a source lacking it is an error."""
+    use, skipped = [], []
+    for s in series:
+        if s.covers(lam):
+            use.append(s)
+        elif strict:
+            s.at(lam)          # raises the one-line LoadFactorError
+        else:
+            skipped.append(s.label)
+    profiles = {s.label: s.at(lam) for s in use}
+    aligned = align(profiles)
+    zones = {lab: liftoff_zones(p) for lab, p in profiles.items()}
+    peaks = {lab: peak_compression(p) for lab, p in profiles.items()}
+    pairs = []
+    grid = aligned.index.to_numpy()
+    for a, b in itertools.combinations([s.label for s in use], 2):
+        m = pair_metrics(grid, aligned[a].to_numpy(), aligned[b].to_numpy())
+        pairs.append({"a": a, "b": b, "load_factor": lam, **m, "liftoff_zone_overlap": zone_iou(zones[a], zones[b])})
+    return PointResult(lam, what, [s.label for s in use], profiles, aligned, zones, peaks, pairs, skipped)
+
+
+def compare_series(series: list[Series], load_factors: list[float] | None = None) -> ComparisonResult:
+    """Compare built series at the requested (or default) load factors."""
+    if not series:
+        raise DeckbridgeError("nothing to compare: no source given")
+    liftoff = {s.label: liftoff_load_factor(s) for s in series}
+    requested = sorted(set(float(x) for x in np.atleast_1d(load_factors))) if load_factors is not None else []
+    if requested:
+        pts = [(lam, "requested") for lam in requested]
+        strict = True
+    else:
+        pts = default_load_factors(series, liftoff)
+        strict = False
+    points = [compare_at(series, lam, what, strict) for lam, what in pts]
+    points = [p for p in points if p.labels]
+    return ComparisonResult(series, points, liftoff)
+
+
+def compare_tables(tables: list[pd.DataFrame], load_factors=None, origins=None,
+                   surface: str = "table") -> ComparisonResult:
+    """Compare tidy contact tables (one or more (source, method) each) on azimuth.
+
+    ``load_factors``: lambda values to compare at (default: see module doc); ``origins``: the file
+    or folder of each table (labels of equal sources get its folder name; the report reads global
+    results from reference folders); ``surface``: 'table' (vertical contact, liftoff) or 'stop'.
+    """
+    if isinstance(load_factors, (int, float)):
+        load_factors = [float(load_factors)]
+    return compare_series(split_tables(list(tables), origins, surface), load_factors)

@@ -1,0 +1,63 @@
+"""Deck node ids -> azimuth, radius, height and contact surface, through the neutral model.
+
+Shared by readers whose files name nodes but carry no coordinates (Abaqus .dat, plain CSV).
+Deck node id = mesh index + 1 (see :mod:`deckbridge.mesh`).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import pandas as pd
+
+from ..errors import DeckbridgeError
+from ..mesh import build_mesh
+from ..model import Model
+
+
+@lru_cache(maxsize=8)
+def slave_nodes(model: Model) -> pd.DataFrame:
+    """Slave nodes of ``model``: index = deck node id; columns theta_deg, r, z, table, stop (bool)."""
+    mesh = build_mesh(model)
+    ids = mesh.table.nodes + 1
+    in_stop = np.zeros(mesh.n_nodes, bool)
+    if mesh.stop is not None:
+        in_stop[mesh.stop.nodes] = True
+        ids = np.union1d(ids, mesh.stop.nodes + 1)
+    in_table = np.zeros(mesh.n_nodes, bool)
+    in_table[mesh.table.nodes] = True
+    idx = ids - 1
+    xyz = mesh.nodes[idx]
+    return pd.DataFrame({
+        "theta_deg": np.mod(np.degrees(np.arctan2(xyz[:, 1], xyz[:, 0])), 360.0),
+        "r": np.hypot(xyz[:, 0], xyz[:, 1]),
+        "z": xyz[:, 2],
+        "table": in_table[idx],
+        "stop": in_stop[idx],
+    }, index=pd.Index(ids, name="node"))
+
+
+def locate(nodes: np.ndarray, model: Model, path, surface: str | None = None) -> pd.DataFrame:
+    """Rows of :func:`slave_nodes` for ``nodes``; raise naming ``path`` if one is not a slave node.
+
+    With ``surface`` ('table' or 'stop') the nodes must belong to that slave set.
+    """
+    table = slave_nodes(model)
+    nodes = np.asarray(nodes, dtype=np.int64)
+    known = np.isin(nodes, table.index.to_numpy())
+    if not known.all():
+        bad = int(nodes[~known][0])
+        raise DeckbridgeError(
+            f"{str(path)!r}: node {bad} is not a contact slave node of model {model.name!r} "
+            f"(n_theta={model.mesh.n_theta}, n_r={model.mesh.n_r}, n_z={model.mesh.n_z}): results of another model?")
+    out = table.loc[nodes]
+    if surface is not None and not out[surface].all():
+        bad = int(out.index[~out[surface].to_numpy()][0])
+        raise DeckbridgeError(f"{str(path)!r}: node {bad} is not on the {surface} slave surface of model {model.name!r}")
+    return out
+
+
+def surface_of(rows: pd.DataFrame) -> np.ndarray:
+    """Default surface of located nodes: 'table' where the node is a table slave, else 'stop'."""
+    return np.where(rows["table"].to_numpy(), "table", "stop")
