@@ -1,0 +1,366 @@
+"""Reader of CalculiX 2.20 results of the deckbridge decks (``.frd`` CONTACT/DISP blocks, ``.dat`` prints).
+
+Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more jobs (all are read; the
+``method`` column tells them apart). What is read, per ccx increment:
+
+- mortar (``*_ccx_lagrange``): table slaves from the ``.frd`` CONTACT block, sigma_n = -CPRESS (CPRESS is
+  the nodal dual multiplier, compression-positive; times the consistent nodal area it is the node's
+  force); radial-stop slaves from their GAPUNI gaps as below;
+- GAPUNI gaps (penalty deck, and the stop of the mortar deck): ``.dat`` ``*NODE PRINT`` forces RF of the
+  grounded node of each gap; the compressive force is F = RF . n (n = master normal pointing into the
+  skirt) and sigma_n = -F / A with the neutral model's tributary area A;
+- gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
+  ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
+  lifted one can carry pressure with a small positive nodal gap). status: closed where
+  sigma_n < -1e-6 max|sigma_n| of the increment (mortar's open nodes carry force noise of ~1e-4 Pa;
+  GAPUNI's open nodes the small tension f_inf / A).
+
+Nodes map to azimuth/area/normal through the model's mesh when ``model`` is given (ids must be slave nodes
+of that model), else through the ``** deckbridge-slave`` lines the renderer writes into the ``.inp``.
+Steps: ccx step 1 -> step 1 (load factor 0); step 2 -> load factor lambda_max * (step time / step
+period); increments are numbered 1.. in time order within each step (with ``*STATIC, DIRECT`` exactly
+one per model increment). ``.dat`` prints carry only the total time: step = 1 for t <= 1, else 2.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..errors import DeckbridgeError
+from ..mesh import build_mesh
+from . import register
+
+SOURCE = "ccx"
+STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
+_DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
+_META_JOB = "** deckbridge-job"
+_META_SLAVE = "** deckbridge-slave "
+
+
+def detect(path: Path) -> bool:
+    """A folder with a ccx job, or a ccx ``.frd`` / ``.dat`` / deckbridge ccx ``.inp`` file."""
+    try:
+        if path.is_dir():
+            return bool(_jobs_in(path))
+        if not path.is_file():
+            return False
+        suffix = path.suffix.lower()
+        if suffix == ".frd":
+            with open(path, errors="replace") as fh:
+                head = fh.read(4096)
+            return "CalculiX" in head
+        if suffix == ".dat":
+            with open(path, errors="replace") as fh:
+                head = fh.read(65536)
+            return bool(re.search(r"(forces|displacements) \((fx|vx),.*for set .* and time", head))
+        if suffix == ".inp":
+            with open(path, errors="replace") as fh:
+                head = fh.read(4096)
+            return _META_JOB in head and "CalculiX" in head
+    except OSError:
+        return False
+    return False
+
+
+def _jobs_in(folder: Path) -> list[Path]:
+    """Job stems in ``folder`` with a ccx result file next to them."""
+    stems = {p.with_suffix("") for p in folder.iterdir() if p.suffix.lower() in (".frd", ".dat")}
+    return sorted(s for s in stems if any(detect(s.with_suffix(x)) for x in (".frd", ".dat")))
+
+
+# --- slave table -------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Slaves:
+    """One row per slave (node, surface): geometry and what turns forces into stresses."""
+    node: np.ndarray
+    surface: np.ndarray
+    theta: np.ndarray
+    r: np.ndarray
+    z: np.ndarray
+    area: np.ndarray
+    normal: np.ndarray      # (n, 3)
+    clearance: np.ndarray
+
+
+def _slaves_from_model(model) -> Slaves:
+    mesh = build_mesh(model)
+    sets = [s for s in (mesh.table, mesh.stop) if s is not None]
+    cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
+    return Slaves(node=cat(lambda s: s.nodes + 1), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
+                  theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),
+                  area=cat(lambda s: s.area), normal=np.vstack([s.normal for s in sets]),
+                  clearance=cat(lambda s: s.clearance))
+
+
+def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
+    """Job metadata, slave table and GAPUNI (slave, ground) pairs of a deckbridge ccx deck."""
+    job: dict = {}
+    rows = []
+    gaps: dict[tuple[int, str], int] = {}
+    if not inp.is_file():
+        return job, None, gaps
+    try:
+        lines = inp.read_text(errors="replace").splitlines()
+    except OSError as exc:
+        raise DeckbridgeError(f"{str(inp)!r}: cannot read ({exc.strerror})") from None
+    in_gap = False
+    for line in lines:
+        if line.startswith(_META_JOB):
+            job = dict(kv.split("=", 1) for kv in line[len(_META_JOB):].split() if "=" in kv)
+        elif line.startswith(_META_SLAVE) and not line.startswith(_META_SLAVE + "node"):
+            rows.append(line[len(_META_SLAVE):].split())
+        elif line.startswith("*"):
+            up = line.upper().replace(" ", "")
+            in_gap = up.startswith("*ELEMENT") and "TYPE=GAPUNI" in up
+            m = re.search(r"ELSET=GAP_(TABLE|STOP)_", up)
+            surface = m.group(1).lower() if (in_gap and m) else None
+        elif in_gap and line.strip():
+            _, slave, ground = (int(v) for v in line.split(",")[:3])
+            gaps[(slave, surface)] = ground
+    slaves = None
+    if rows:
+        try:
+            a = np.array([[float(v) for v in (r[:1] + r[2:])] for r in rows])
+        except ValueError:
+            raise DeckbridgeError(f"{str(inp)!r}: malformed '** deckbridge-slave' line") from None
+        slaves = Slaves(node=a[:, 0].astype(np.int64), surface=np.array([r[1] for r in rows]), theta=a[:, 1],
+                        r=a[:, 2], z=a[:, 3], area=a[:, 4], normal=a[:, 5:8], clearance=a[:, 8])
+    return job, slaves, gaps
+
+
+# --- ccx files ----------------------------------------------------------------------------------------
+def _dat_blocks(path: Path) -> list[dict]:
+    """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}."""
+    try:
+        text = path.read_text(errors="replace")
+    except OSError as exc:
+        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
+    blocks, cur = [], None
+    for line in text.splitlines():
+        m = _DAT_HEAD.match(line)
+        if m:
+            cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {}}
+            blocks.append(cur)
+            continue
+        parts = line.split()
+        if cur is None or not parts:
+            continue
+        if len(parts) == 4 and parts[0].isdigit():
+            try:
+                cur["values"][int(parts[0])] = np.array([float(v) for v in parts[1:]])
+            except ValueError:
+                raise DeckbridgeError(f"{str(path)!r}: unreadable line {line.strip()!r}") from None
+        else:
+            cur = None
+    return blocks
+
+
+def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
+    """Node coordinates and DISP/CONTACT result blocks of an ASCII ``.frd``.
+
+    Each block: name, step, inc (ccx increment within the step), time, components, {node: values}.
+    """
+    coords: dict[int, np.ndarray] = {}
+    blocks: list[dict] = []
+    try:
+        fh = open(path, errors="replace")
+    except OSError as exc:
+        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
+    with fh:
+        mode, cur, step, inc, time, width = None, None, 0, 0, 0.0, 10
+        for line in fh:
+            if line.startswith("    2C"):
+                mode, width = "coords", (5 if line.split()[-1] == "0" else 10)
+            elif line.startswith("    1PSTEP"):
+                f = line.split()
+                inc, step = int(f[2]), int(f[3])
+            elif line.startswith("  100C"):
+                time = float(line[12:24])
+                width = 5 if line.split()[-1] == "0" else 10
+            elif line.startswith(" -4 "):
+                cur = {"name": line[5:13].strip(), "step": step, "inc": inc, "time": time, "values": {}}
+                blocks.append(cur)
+                mode = "result"
+            elif line.startswith(" -3"):
+                mode, cur = None, None
+            elif line.startswith(" -1") and mode is not None:
+                try:
+                    node = int(line[3:3 + width])
+                    body = line[3 + width:].rstrip("\n")
+                    vals = np.array([float(body[i:i + 12]) for i in range(0, len(body.rstrip()), 12)])
+                except ValueError:
+                    raise DeckbridgeError(f"{str(path)!r}: unreadable line {line.strip()!r}") from None
+                if mode == "coords":
+                    coords[node] = vals
+                else:
+                    cur["values"][node] = vals
+    return coords, blocks
+
+
+# --- assembly -----------------------------------------------------------------------------------------
+def _method_of(stem: Path, job: dict) -> str:
+    if job.get("method") in ("penalty", "mortar"):
+        return job["method"]
+    name = stem.name.lower()
+    if "lagrange" in name or "mortar" in name:
+        return "mortar"
+    if "penalty" in name or "gap" in name:
+        return "penalty"
+    raise DeckbridgeError(f"{str(stem)!r}: cannot tell penalty from mortar (no deckbridge deck beside it, "
+                          "job name without 'penalty' or 'lagrange')")
+
+
+def _step_of(t: float, step: int | None) -> tuple[int, float]:
+    """(step, step-time fraction) of a total time; our decks have two steps of period 1."""
+    if step is None:
+        step = 1 if t <= 1.0 + 1e-9 else 2
+    return step, t - (step - 1)
+
+
+def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
+    """Contact table of one ccx job. Mortar table slaves: nodal contact force RF / area from the .dat
+    (``table_from="rf"``, exact force balance) or -CPRESS from the .frd (``"cpress"``, or when the .dat
+    has no RF of the table slaves)."""
+    inp, dat, frd = stem.with_suffix(".inp"), stem.with_suffix(".dat"), stem.with_suffix(".frd")
+    job, meta_slaves, gaps = _read_meta(inp)
+    method = _method_of(stem, job)
+    if model is not None:
+        sl = _slaves_from_model(model)
+        n_nodes = build_mesh(model).n_nodes
+        if "n_nodes" in job and int(job["n_nodes"]) != n_nodes:
+            raise DeckbridgeError(f"{str(inp)!r}: deck of a mesh with {job['n_nodes']} nodes, model "
+                                  f"{model.name!r} has {n_nodes}: results of another model?")
+        lam = model.steps.lambda_max
+    elif meta_slaves is not None:
+        sl = meta_slaves
+        lam = float(job.get("lambda_max", 1.0))
+    else:
+        raise DeckbridgeError(f"{str(stem)!r}: no model given and no deckbridge deck ({inp.name}) beside the "
+                              "results to map node ids to the skirt")
+    dat_blocks = _dat_blocks(dat) if dat.is_file() else []
+    coords, frd_blocks = _frd_blocks(frd) if frd.is_file() else ({}, [])
+    if model is not None and coords:
+        _check_coords(frd, coords, sl, model)
+
+    # per time point: node -> force (RF) and displacement, from the .dat and the .frd
+    forces: dict[tuple[int, float], dict[int, np.ndarray]] = {}
+    disp: dict[tuple[int, float], dict[int, np.ndarray]] = {}
+    cpress: dict[tuple[int, float], dict[int, float]] = {}
+    for b in frd_blocks:
+        key = (b["step"], b["time"])
+        if b["name"] == "CONTACT":
+            cpress.setdefault(key, {}).update({n: v[3] for n, v in b["values"].items()})
+        elif b["name"] == "DISP":
+            disp.setdefault(key, {}).update(b["values"])
+    for b in dat_blocks:
+        key = _key(b["time"], None)
+        (forces if b["kind"] == "forces" else disp).setdefault(key, {}).update(b["values"])
+
+    table = sl.surface == "table"
+    gap_rows = np.ones(sl.node.size, bool) if method == "penalty" else ~table
+    mortar_rows = ~gap_rows
+    if mortar_rows.any():
+        has_rf = any(int(sl.node[np.flatnonzero(mortar_rows)[0]]) in f for f in forces.values())
+        if table_from == "cpress" or not has_rf:
+            if not cpress:
+                raise DeckbridgeError(f"{str(frd if frd.is_file() else stem)!r}: no CONTACT block (CPRESS) of a "
+                                      "mortar job in the .frd, and no RF of the slave nodes in the .dat")
+            table_from = "cpress"
+    if gap_rows.any() and not forces:
+        raise DeckbridgeError(f"{str(dat if dat.is_file() else stem)!r}: no gap-element forces (*NODE PRINT RF "
+                              "of the grounded nodes) in the .dat")
+    ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model)
+    force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
+
+    times = sorted(set(forces) | (set(cpress) if table_from == "cpress" else set()))
+    frames, counters = [], {}
+    for step, t in times:
+        f_t, d_t = forces.get((step, t), {}), disp.get((step, t), {})
+        sigma = np.full(sl.node.size, np.nan)
+        rf_rows = gap_rows | (mortar_rows if table_from == "rf" else False)
+        for i in np.flatnonzero(rf_rows):
+            rf = f_t.get(int(force_of[i]))
+            if rf is None:
+                raise DeckbridgeError(f"{str(dat)!r}: no force RF of node {int(force_of[i])} (for {sl.surface[i]} "
+                                      f"slave node {int(sl.node[i])}) at time {t:g}: results of another model?")
+            sigma[i] = -float(rf @ sl.normal[i]) / sl.area[i]
+        if mortar_rows.any() and table_from == "cpress":
+            cp = cpress.get((step, t), {})
+            for i in np.flatnonzero(mortar_rows):
+                if int(sl.node[i]) not in cp:
+                    raise DeckbridgeError(f"{str(frd)!r}: slave node {int(sl.node[i])} has no CONTACT result at "
+                                          f"time {t:g}: results of another model?")
+                sigma[i] = -cp[int(sl.node[i])]
+        gap = np.full(sl.node.size, np.nan)
+        for i in range(sl.node.size):
+            u = d_t.get(int(sl.node[i]))
+            if u is not None:
+                gap[i] = sl.clearance[i] + float(u[:3] @ sl.normal[i])
+        counters[step] = counters.get(step, 0) + 1
+        frames.append(pd.DataFrame({
+            "source": SOURCE, "method": method, "step": step, "increment": counters[step],
+            "load_factor": 0.0 if step == 1 else lam * (t - (step - 1)), "node": sl.node,
+            "surface": sl.surface, "theta_deg": sl.theta, "z": sl.z, "r": sl.r, "sigma_n_pa": sigma,
+            "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open")}))
+    if not frames:
+        raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
+    return pd.concat(frames, ignore_index=True)
+
+
+def _key(t: float, step: int | None) -> tuple[int, float]:
+    s, _ = _step_of(t, step)
+    return s, t
+
+
+def _ground_nodes(stem: Path, sl: Slaves, rows: np.ndarray, gaps: dict, method: str, model) -> np.ndarray:
+    """Grounded GAPUNI node of each slave row (0 where none): from the deck, else from the numbering."""
+    out = np.zeros(sl.node.size, np.int64)
+    if not rows.any():
+        return out
+    if not gaps:
+        if model is None:
+            raise DeckbridgeError(f"{str(stem)!r}: gap elements unknown (no deck beside the results, no model)")
+        from ..render.calculix import ground_node_ids
+        gaps = ground_node_ids(model, method)
+    for i in np.flatnonzero(rows):
+        g = gaps.get((int(sl.node[i]), str(sl.surface[i])))
+        if g is None:
+            raise DeckbridgeError(f"{str(stem.with_suffix('.inp'))!r}: no gap element on {sl.surface[i]} slave "
+                                  f"node {int(sl.node[i])}: deck of another model?")
+        out[i] = g
+    return out
+
+
+def _check_coords(frd: Path, coords: dict, sl: Slaves, model) -> None:
+    """Slave nodes of ``model`` must exist in the .frd at the model's places (the .frd keeps 6 digits)."""
+    tol = 1e-4 * max(model.geometry.radius, model.geometry.height)
+    for i in range(sl.node.size):
+        c = coords.get(int(sl.node[i]))
+        th = np.radians(sl.theta[i])
+        want = np.array([sl.r[i] * np.cos(th), sl.r[i] * np.sin(th), sl.z[i]])
+        if c is None or np.max(np.abs(c[:3] - want)) > tol:
+            raise DeckbridgeError(f"{str(frd)!r}: node {int(sl.node[i])} is not the {sl.surface[i]} slave node "
+                                  f"of model {model.name!r} (n_theta={model.mesh.n_theta}, n_r={model.mesh.n_r}, "
+                                  f"n_z={model.mesh.n_z}): results of another model?")
+
+
+@register("calculix", detect=detect)
+def read(path: Path, model=None) -> pd.DataFrame:
+    """Contact table of the ccx job(s) at ``path`` (a .frd/.dat/.inp file or a folder)."""
+    path = Path(path)
+    if path.is_dir():
+        stems = _jobs_in(path)
+        if not stems:
+            raise DeckbridgeError(f"{str(path)!r}: no CalculiX results (.frd/.dat) in this folder")
+    elif path.is_file():
+        stems = [path.with_suffix("")]
+        if not (stems[0].with_suffix(".frd").is_file() or stems[0].with_suffix(".dat").is_file()):
+            raise DeckbridgeError(f"{str(path)!r}: no CalculiX results (.frd/.dat) beside it")
+    else:
+        raise DeckbridgeError(f"{str(path)!r}: no such file or folder")
+    return pd.concat([_read_job(s, model) for s in stems], ignore_index=True)
