@@ -1,0 +1,230 @@
+"""The reference solver run on the neutral model: Model + SkirtMesh -> reference_solver -> tidy table.
+
+``solve_model`` returns the contact table (schema of :mod:`deckbridge.results`, source 'reference')
+and a summary dict; ``write_outputs`` writes DIR/contact.csv, DIR/summary.json and DIR/result.vtu
+atomically. ``build_problem`` and ``condense_model`` expose the translation and the reusable condensed
+system (factor once, then sweep methods and penalty factors with ``solve_system``).
+Sign conventions: sigma_n_pa < 0 compression, gap_m > 0 open; theta in degrees CCW from +x.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import pandas as pd
+
+import reference_solver as rs
+
+from .errors import DeckbridgeError
+from .mesh import SkirtMesh, build_mesh
+from .model import Model
+from .outdir import staged
+from .results import conform
+
+SOURCE = "reference"
+
+
+def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
+    """Translate the model and its mesh into the solver's arrays (C3D8I elements)."""
+    mesh = mesh or build_mesh(model)
+    sets = [mesh.table] + ([mesh.stop] if mesh.stop is not None else [])
+    th = np.radians(mesh.table.theta_deg)
+    lv = model.load_vectors()
+    z3 = (0.0, 0.0, 0.0)
+    return rs.Problem(
+        nodes=mesh.nodes, hexes=mesh.hexes, E=model.material.E, nu=model.material.nu,
+        contact_nodes=np.concatenate([s.nodes for s in sets]),
+        contact_normals=np.concatenate([s.normal for s in sets]),
+        contact_area=np.concatenate([s.area for s in sets]),
+        contact_k=np.concatenate([s.k for s in sets]),
+        contact_clearance=np.concatenate([s.clearance for s in sets]),
+        contact_surface=np.concatenate([[s.surface] * s.nodes.size for s in sets]),
+        spring_nodes=mesh.table.nodes,
+        spring_dirs=np.stack([-np.sin(th), np.cos(th), np.zeros_like(th)], axis=1),
+        spring_k=mesh.k_tangent,
+        ref_point=mesh.ref_point, coupling=model.load_introduction,
+        coupling_nodes=mesh.top_nodes, coupling_weights=mesh.top_weights,
+        loads={"N": (*lv["N_force"], *z3), "T": (*lv["T_force"], *z3), "M": (*z3, *lv["M_moment"])},
+        k_open_ratio=mesh.k_open_ratio, friction=model.contact.friction,
+    )
+
+
+def condense_model(model: Model, mesh: SkirtMesh | None = None, **kw) -> tuple[SkirtMesh, rs.CondensedSystem]:
+    """Mesh, translate and condense once; ``kw`` goes to :func:`reference_solver.condense`."""
+    mesh = mesh or build_mesh(model)
+    try:
+        return mesh, rs.condense(build_problem(model, mesh), **kw)
+    except rs.ReferenceSolverError as exc:
+        raise DeckbridgeError(f"model {model.name!r}: {exc}") from None
+
+
+def penalty_factor(model: Model, k_factor: float = 1.0, alpha: float | None = None) -> float:
+    """Factor on the model's penalty stiffness; ``alpha`` re-scales the alpha A^2 K / V rule."""
+    if not (isinstance(k_factor, (int, float)) and math.isfinite(k_factor) and k_factor > 0):
+        raise DeckbridgeError(f"--k-factor = {k_factor!r}: must be a positive number")
+    if alpha is None:
+        return float(k_factor)
+    if not (math.isfinite(alpha) and alpha > 0):
+        raise DeckbridgeError(f"--alpha = {alpha!r}: must be a positive number")
+    pen = model.contact.penalty
+    if pen.k_normal is not None:
+        raise DeckbridgeError(f"--alpha = {alpha!r}: the model sets contact.penalty.k_normal = {pen.k_normal!r}, "
+                              "so alpha is not used (use --k-factor, or set k_normal null)")
+    return float(k_factor) * alpha / pen.alpha
+
+
+def solve_system(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, method: str,
+                 k_factor: float = 1.0, alpha: float | None = None, algorithm: str | None = None,
+                 on_increment: Callable[[int, int, float], None] | None = None,
+                 recover: bool = True) -> tuple[pd.DataFrame, dict, rs.Solution]:
+    """Run the load path of ``model`` on an existing condensed system; (table, summary, solution)."""
+    t0 = time.perf_counter()
+    kf = penalty_factor(model, k_factor, alpha)
+    try:
+        sol = rs.solve_path(system, method, kf, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
+                            lambda_max=model.steps.lambda_max, increments=model.steps.increments,
+                            algorithm=algorithm, liftoff_surface="table", recover=recover,
+                            on_increment=on_increment)
+    except rs.ReferenceSolverError as exc:
+        raise DeckbridgeError(f"model {model.name!r}, method {method}: {exc}") from None
+    df = contact_table(system.problem, mesh, sol)
+    summary = make_summary(model, mesh, system, sol, df, kf)
+    summary["wall_time_s"] = system.info.get("total_s", 0.0) + (time.perf_counter() - t0)
+    return df, summary, sol
+
+
+def solve_model(model: Model, method: str, k_factor: float = 1.0, alpha: float | None = None,
+                algorithm: str | None = None, on_increment=None, recover: bool = True,
+                ) -> tuple[pd.DataFrame, dict]:
+    """Mesh, condense and solve ``model`` with ``method``; returns (tidy table, summary dict)."""
+    t0 = time.perf_counter()
+    penalty_factor(model, k_factor, alpha)       # bad factors fail before any work
+    mesh, system = condense_model(model)
+    system.info["total_s"] = time.perf_counter() - t0
+    df, summary, _ = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
+                                  on_increment, recover)
+    return df, summary
+
+
+def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFrame:
+    """One row per (increment, contact row) in the tidy schema."""
+    ni, nc = sol.sigma_n.shape
+    sets = [mesh.table] + ([mesh.stop] if mesh.stop is not None else [])
+    theta = np.concatenate([s.theta_deg for s in sets])
+    z = np.concatenate([s.z for s in sets])
+    r = np.concatenate([s.r for s in sets])
+    rep = lambda a: np.repeat(a, nc)  # noqa: E731
+    til = lambda a: np.tile(a, ni)    # noqa: E731
+    df = pd.DataFrame({
+        "source": SOURCE, "method": sol.method, "step": rep(sol.step), "increment": rep(sol.increment),
+        "load_factor": rep(sol.load_factor), "node": til(p.contact_nodes + 1),
+        "surface": til(p.contact_surface), "theta_deg": til(np.mod(theta, 360.0) % 360.0),
+        "z": til(z), "r": til(r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": sol.gap.ravel(),
+        "status": np.where(sol.closed.ravel(), "closed", "open"),
+    })
+    return conform(df)
+
+
+def _stats(a: np.ndarray) -> dict | None:
+    if a is None or a.size == 0:
+        return None
+    return {"min": float(a.min()), "max": float(a.max()), "mean": float(a.mean()), "count": int(a.size)}
+
+
+def reactions(p: rs.Problem, sol: rs.Solution, row: int) -> tuple[np.ndarray, np.ndarray]:
+    """Resultant force [N] and moment about the reference point [N m] of contact + spring reactions."""
+    f = sol.force[row][:, None] * p.contact_normals
+    fs = sol.spring_force[row][:, None] * p.spring_dirs
+    F = f.sum(axis=0) + fs.sum(axis=0)
+    M = (np.cross(p.nodes[p.contact_nodes] - p.ref_point, f).sum(axis=0)
+         + np.cross(p.nodes[p.spring_nodes] - p.ref_point, fs).sum(axis=0))
+    return F, M
+
+
+def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol: rs.Solution,
+                 df: pd.DataFrame, k_factor: float) -> dict:
+    p = system.problem
+    lift_theta = None
+    if sol.liftoff_row is not None:
+        x, y = p.nodes[p.contact_nodes[sol.liftoff_row], :2]
+        lift_theta = float(np.mod(np.degrees(np.arctan2(y, x)), 360.0))
+    ends = {s: int(np.flatnonzero(sol.step == s)[-1]) for s in (1, 2)}
+    react = {str(s): reactions(p, sol, i) for s, i in ends.items()}
+    g = model.geometry
+    mb1 = model.base_moment
+    pen = None
+    if sol.method == "penalty":
+        pen = {"k_factor": k_factor, "alpha": (model.contact.penalty.alpha * k_factor
+                                               if model.contact.penalty.k_normal is None else None),
+               "k_open_ratio": p.k_open_ratio,
+               **{s: _stats(sol.penalty_k[p.contact_surface == s]) for s in ("table", "stop")}}
+    out = {
+        "source": SOURCE, "method": sol.method, "algorithm": sol.algorithm, "model": model.name,
+        "load_introduction": model.load_introduction,
+        "dofs": int(3 * p.n_nodes), "reduced_dofs": int(system.dofs),
+        "condensed_dofs": int(system.info["retained"]), "contact_rows": int(p.n_contacts),
+        "liftoff_load_factor": sol.liftoff_load_factor, "liftoff_theta_deg": lift_theta,
+        "liftoff_load_factor_beam_theory": (model.loads.N * g.radius / 2 / mb1) if mb1 > 0 else None,
+        "min_sigma_n_pa": float(df["sigma_n_pa"].min()), "max_sigma_n_pa": float(df["sigma_n_pa"].max()),
+        "reaction_force_n": {s: v[0].tolist() for s, v in react.items()},
+        "reaction_moment_nm": {s: v[1].tolist() for s, v in react.items()},
+        "penalty_k": pen,
+        "k_tangent": _stats(p.spring_k),
+        "friction": sol.friction_check(p, p.friction) if p.friction > 0 else None,
+        "solver": {"sparse": system.info["schur"], "contact": sol.algorithm,
+                   "increments": int(sol.step.size), "iterations": int(sol.iterations.sum())},
+        "timings_s": {k: float(v) for k, v in system.info.items() if k.endswith("_s")}
+        | {"load_path_s": float(sol.wall_time_s)},
+        "wall_time_s": None,
+    }
+    return out
+
+
+def result_mesh(p: rs.Problem, sol: rs.Solution):
+    """meshio mesh with displacement, von Mises and contact pressure at the end of each step."""
+    import meshio
+    point, cell = {}, {}
+    for s, u in sorted(sol.fields.items()):
+        last = int(np.flatnonzero(sol.step == s)[-1])
+        point[f"displacement_step{s}_m"] = u
+        for surf in np.unique(p.contact_surface):
+            rows = p.contact_surface == surf
+            sig = np.zeros(p.n_nodes)
+            sig[p.contact_nodes[rows]] = sol.sigma_n[last, rows]
+            point[f"{surf}_sigma_n_step{s}_pa"] = sig
+            point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
+        cell[f"von_mises_step{s}_pa"] = [rs.element_von_mises(p, u)]
+    return meshio.Mesh(p.nodes, [("hexahedron", p.hexes)], point_data=point, cell_data=cell)
+
+
+def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
+                  df: pd.DataFrame, summary: dict) -> list[Path]:
+    """Write contact.csv, summary.json and (outputs.vtu) result.vtu into ``outdir`` atomically."""
+    import meshio
+    names = ["contact.csv", "summary.json"]
+    with staged(outdir) as stage:
+        df.to_csv(stage / "contact.csv", index=False)
+        (stage / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        if model.outputs.vtu and sol.fields:
+            meshio.write(stage / "result.vtu", result_mesh(system.problem, sol))
+            names.append("result.vtu")
+    return [Path(outdir) / n for n in names]
+
+
+def run_solve(model: Model, method: str, outdir: str | Path, k_factor: float = 1.0,
+              alpha: float | None = None, algorithm: str | None = None,
+              on_increment=None) -> tuple[list[Path], dict]:
+    """The ``deckbridge solve`` job: solve and write; returns (written paths, summary)."""
+    t0 = time.perf_counter()
+    penalty_factor(model, k_factor, alpha)
+    mesh, system = condense_model(model)
+    system.info["total_s"] = time.perf_counter() - t0
+    df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
+                                    on_increment, recover=model.outputs.vtu)
+    summary["wall_time_s"] = time.perf_counter() - t0
+    return write_outputs(outdir, model, system, sol, df, summary), summary

@@ -1,0 +1,55 @@
+"""reference_solver: small-strain hexahedral elasticity with penalty and Lagrange contact on rigid masters.
+
+Stand-alone (imports nothing from deckbridge): arrays in, arrays out. SI units; contact normals
+point from the master into the body, gaps > 0 are open, contact forces > 0 are compressive and
+sigma_n = -force / area < 0 is compression.
+
+API
+---
+``Problem(nodes, hexes, E, nu, contact_*, spring_*, ref_point, coupling_nodes, coupling_weights, loads, ...)``
+    Frozen dataclass of arrays, validated on construction (see :class:`reference_solver.problem.Problem`).
+    ``loads`` maps load-case names to (Fx, Fy, Fz, Mx, My, Mz) at ``ref_point``; ``coupling`` is
+    'distributing' (RBE3-like) or 'kinematic' (rigid top); ``element`` 'c3d8i' (default) or 'c3d8'.
+``condense(problem, cases=None, factorize=None, schur='auto') -> CondensedSystem``
+    Assembles K (vectorised hexahedra, incompatible modes condensed per element), rotates contact
+    and spring nodes into local frames, applies the coupling, factors once and builds the dense
+    condensed operator on the contact dofs and the condensed loads of every basic load case. The
+    result does not depend on the method or on the penalty stiffness: re-use it for k sweeps.
+    ``factorize(K) -> solve(B)`` is injectable (:func:`cholmod_factorize` default, :func:`splu_factorize`).
+``solve_path(system, method='penalty'|'lagrange', k_factor=1.0, base={'N': 1}, ramp={'T': 1, 'M': 1},
+             lambda_max=1.0, increments=10, algorithm=None, liftoff_surface='table', ...) -> Solution``
+    Step 1 applies ``base``; step 2 ``base + lambda * ramp`` for lambda = j lambda_max / increments,
+    j = 0..increments. Penalty: bilinear gap springs (k_factor * contact_k closed, k_open_ratio times
+    that open; Newton on the states). Lagrange: exact primal-dual active set (default) or the paper's
+    projected Gauss-Seidel (``algorithm='gauss-seidel'``, slow past liftoff). The liftoff onset (first
+    ``liftoff_surface`` row that opens) is bracketed by the increments and located exactly by following
+    the piecewise-linear path (bisection as fallback, ``onset='bisection'`` to force it). The fields at
+    the end of both steps are recovered with one solve into ``Solution.fields``.
+``Solution``
+    Per increment (rows) and contact row (columns): ``u``, ``gap`` [m] (> 0 open), ``force`` [N]
+    (> 0 compressive), ``sigma_n`` [Pa] (< 0 compression), ``closed``; per spring ``spring_u``,
+    ``spring_force``; ``liftoff_load_factor``, ``liftoff_row``; ``friction_check(problem, mu)``.
+``element_von_mises(problem, u)``, ``distributing_forces(...)``, ``hex8_stiffness(...)``, ``assemble_stiffness(...)``
+    Building blocks, also used by the tests.
+``ReferenceSolverError``
+    Raised with a one-line message for a mechanism, no possible contact, a load that tips the body
+    over, or non-finite numbers.
+"""
+
+from .assembly import assemble_stiffness
+from .condense import CondensedSystem, check_mechanism, condense
+from .contact import lcp_active_set, lcp_pgs, penalty_solve
+from .elements import hex8_stiffness
+from .errors import ReferenceSolverError
+from .fields import element_stress, element_von_mises
+from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_factorize
+from .loads import distributing_forces
+from .path import Solution, solve_path
+from .problem import Problem
+
+__all__ = [
+    "Problem", "CondensedSystem", "Solution", "ReferenceSolverError", "condense", "solve_path",
+    "check_mechanism", "assemble_stiffness", "hex8_stiffness", "distributing_forces",
+    "element_stress", "element_von_mises", "penalty_solve", "lcp_active_set", "lcp_pgs",
+    "cholmod_factorize", "splu_factorize", "default_factorize", "HAVE_CHOLMOD",
+]

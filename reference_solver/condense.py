@@ -1,0 +1,173 @@
+"""Assembly and static condensation onto the contact dofs: the reusable ``CondensedSystem``.
+
+Reduced unknowns q (frames.py); retained dofs r = contact normal dofs c, then spring dofs s.
+S (with the springs on the s diagonal) is condensed once more onto c: the contact operator
+S_c = S_cc - S_cs S_ss^-1 S_sc and loads f_c = fhat_c - S_cs S_ss^-1 fhat_s, per basic load case.
+Contact reactions (force of the master on the node along its normal, > 0 compressive) are
+r_c = S_c u_c - f_c(load); spring dofs u_s = S_ss^-1 (fhat_s - S_sc u_c); spring forces -k u_s.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+import scipy.linalg as sla
+
+from .assembly import assemble_stiffness
+from .errors import ReferenceSolverError
+from .frames import DofMap, build_dofmap
+from .linalg import (HAVE_CHOLMOD, Factorize, Schur, cholesky_dense, default_factorize, schur_rhs,
+                     schur_trailing)
+from .loads import distributing_forces, rigid_modes
+from .problem import Problem
+
+
+@dataclass
+class CondensedSystem:
+    """Everything the contact iterations need, independent of the method and of the penalty k."""
+    problem: Problem
+    dofmap: DofMap
+    case_names: tuple[str, ...]
+    S: np.ndarray                 # (nr, nr) condensed stiffness on r = c + s, springs included [N/m]
+    fhat: np.ndarray              # (nr, ncase) condensed loads [N]
+    Sc: np.ndarray                # (nc, nc) contact operator
+    fc: np.ndarray                # (nc, ncase) contact loads
+    Gs: np.ndarray                # (ns, nc) S_ss^-1 S_sc
+    us0: np.ndarray               # (ns, ncase) S_ss^-1 fhat_s
+    schur: Schur
+    info: dict = field(default_factory=dict)
+
+    @property
+    def n_contacts(self) -> int:
+        return self.Sc.shape[0]
+
+    @property
+    def dofs(self) -> int:
+        """Number of reduced unknowns (displacement dofs after couplings) [-]."""
+        return self.dofmap.n_reduced
+
+    def coeffs(self, combo: Mapping[str, float]) -> np.ndarray:
+        """Vector of load-case coefficients from ``{case: factor}``."""
+        c = np.zeros(len(self.case_names))
+        for name, v in combo.items():
+            if name not in self.case_names:
+                raise ReferenceSolverError(f"load case {name!r}: unknown (known: {', '.join(self.case_names)})")
+            c[self.case_names.index(name)] += v
+        return c
+
+    def spring_displacement(self, u_c: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
+        return self.us0 @ coeffs - self.Gs @ u_c
+
+    def recover(self, u_c: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
+        """Global nodal displacements (n, 3) [m] for contact dofs ``u_c`` under load ``coeffs``.
+
+        With ``u_c`` (m, nc) and ``coeffs`` (m, ncase), m states in one solve: (m, n, 3).
+        """
+        many = np.ndim(u_c) == 2
+        uc = np.atleast_2d(u_c).T                                    # (nc, m)
+        co = np.atleast_2d(coeffs).T                                 # (ncase, m)
+        u_r = np.concatenate([uc, self.us0 @ co - self.Gs @ uc])
+        q = self.schur.recover(u_r, co)
+        u = (self.dofmap.T @ q).T.reshape(uc.shape[1], -1, 3)
+        if not np.all(np.isfinite(u)):
+            raise ReferenceSolverError("non-finite displacements in the recovered field")
+        return u if many else u[0]
+
+
+def load_vectors(p: Problem, dm: DofMap, names: tuple[str, ...]) -> np.ndarray:
+    """Reduced load vectors (nq, ncase) of the basic load cases."""
+    F = np.zeros((dm.n_reduced, len(names)))
+    for k, name in enumerate(names):
+        v = p.loads[name]
+        if p.coupling == "kinematic":
+            F[dm.ref_dofs, k] = v
+        else:
+            f = np.zeros((p.n_nodes, 3))
+            f[p.coupling_nodes] = distributing_forces(p.nodes[p.coupling_nodes], p.coupling_weights,
+                                                      p.ref_point, v[:3], v[3:])
+            F[:, k] = dm.T.T @ f.ravel()
+    return F
+
+
+def _reduced_stiffness(p: Problem, dm: DofMap, times: dict) -> list:
+    """[T^T K T] in a list, so that the caller can hand over its only reference."""
+    t = time.perf_counter()
+    K = assemble_stiffness(p.nodes, p.hexes, p.E, p.nu, p.element)
+    times["assembly_s"] = time.perf_counter() - t
+    return [(dm.T.T @ K @ dm.T).tocsr()]
+
+
+def check_mechanism(p: Problem) -> None:
+    """Raise when a rigid-body motion moves no contact normal and strains no spring."""
+    if p.n_contacts == 0:
+        raise ReferenceSolverError("no contact possible: the problem has no slave nodes")
+    L = p.length_scale()
+    modes = rigid_modes(p.nodes, p.ref_point, L)                    # (6, n, 3)
+    A = np.einsum("mjk,jk->jm", modes[:, p.contact_nodes], p.contact_normals)
+    kref = p.E * L
+    if p.n_springs:
+        B = np.einsum("mjk,jk->jm", modes[:, p.spring_nodes], p.spring_dirs)
+        A = np.vstack([A, np.sqrt(p.spring_k / kref)[:, None] * B])
+    sv, vt = np.linalg.svd(A, full_matrices=False)[1:]
+    null = vt[sv <= 1e-8 * sv.max()]
+    if null.size:
+        names = ["translation x", "translation y", "translation z", "rotation x", "rotation y", "rotation z"]
+        weight = np.linalg.norm(null, axis=0)          # share of each canonical motion in the null space
+        free = [names[m] for m in np.flatnonzero(weight > 0.5)] or [names[int(np.argmax(weight))]]
+        raise ReferenceSolverError(
+            f"mechanism: nothing restrains the rigid-body {', '.join(free)} "
+            "(add the radial stop or tangential springs)")
+
+
+def condense(p: Problem, cases: tuple[str, ...] | None = None, factorize: Factorize | None = None,
+             schur: str = "auto") -> CondensedSystem:
+    """Assemble K, apply frames and couplings, condense onto contact and spring dofs.
+
+    ``factorize``: sparse factorisation (default CHOLMOD, else SuperLU); ``schur``: 'trailing'
+    (CHOLMOD, r ordered last), 'rhs' (blocked solves with ``factorize``) or 'auto' (trailing when
+    CHOLMOD is available and ``factorize`` is not given).
+    """
+    check_mechanism(p)
+    names = tuple(p.loads) if cases is None else tuple(cases)
+    if schur == "auto":
+        schur = "trailing" if (HAVE_CHOLMOD and factorize is None) else "rhs"
+    if schur not in ("trailing", "rhs"):
+        raise ReferenceSolverError(f"schur = {schur!r}: must be auto, trailing or rhs")
+    t0 = time.perf_counter()
+    dm = build_dofmap(p)
+    F = load_vectors(p, dm, names)
+    r = np.concatenate([dm.contact_dofs, dm.spring_dofs])
+    times: dict = {}
+    # the reduced stiffness is only referenced by the Schur call, which releases it early
+    Kq = _reduced_stiffness(p, dm, times)
+    t2 = time.perf_counter()
+    sc = (schur_trailing(Kq.pop(), r, F) if schur == "trailing"
+          else schur_rhs(Kq.pop(), r, F, factorize or default_factorize()))
+    t3 = time.perf_counter()
+    t1 = t0 + times["assembly_s"]
+    nc, ns = p.n_contacts, p.n_springs
+    S = sc.S.copy()
+    S[np.arange(nc, nc + ns), np.arange(nc, nc + ns)] += p.spring_k
+    if not (np.all(np.isfinite(S)) and np.all(np.isfinite(sc.fhat))):
+        raise ReferenceSolverError("non-finite numbers in the condensed stiffness (check E, nu and the mesh)")
+    if ns:
+        cf = cholesky_dense(S[nc:, nc:])
+        if cf is None:
+            raise ReferenceSolverError("mechanism: the spring dofs are not restrained with the contacts held")
+        Gs = sla.cho_solve(cf, S[nc:, :nc])
+        us0 = sla.cho_solve(cf, sc.fhat[nc:])
+    else:
+        Gs = np.zeros((0, nc))
+        us0 = np.zeros((0, len(names)))
+    Sc = S[:nc, :nc] - S[:nc, nc:] @ Gs
+    Sc = 0.5 * (Sc + Sc.T)
+    fc = sc.fhat[:nc] - S[:nc, nc:] @ us0
+    t4 = time.perf_counter()
+    info = {"dofs": dm.n_reduced, "retained": int(r.size), "schur": sc.method,
+            "assembly_s": t1 - t0, "transform_s": t2 - t1, "condense_s": t3 - t2,
+            "dense_s": t4 - t3, **{f"schur_{k}": v for k, v in sc.timings.items()}}
+    return CondensedSystem(problem=p, dofmap=dm, case_names=names, S=S, fhat=sc.fhat, Sc=Sc, fc=fc,
+                           Gs=Gs, us0=us0, schur=sc, info=info)

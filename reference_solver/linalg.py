@@ -1,0 +1,207 @@
+"""Sparse factorisations (injectable) and the Schur complement onto the retained dofs.
+
+A factorisation is a callable ``factorize(K) -> solve`` where ``K`` is a symmetric positive
+definite sparse matrix and ``solve(B)`` returns K^-1 B for a vector or an (n, k) array.
+``cholmod_factorize`` (scikit-sparse, CHOLMOD) is the default when installed, ``splu_factorize``
+(SciPy SuperLU) the fallback. Each is factored once and re-used for every right-hand side.
+
+The Schur complement S = K_rr - K_ri K_ii^-1 K_ir onto the retained dofs r is built either
+- ``trailing`` (CHOLMOD only): factor K + D0 (D0 = diag(K) on r) with r ordered last after a
+  fill-reducing ordering of K_ii; the trailing block of the factor gives S + D0 = L_rr L_rr^T. Cost about
+  one factorisation; or
+- ``rhs`` (any factorisation): factor K_ii and solve for the columns of K_ir in blocks.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .errors import ReferenceSolverError
+
+try:  # CHOLMOD through scikit-sparse (needs SuiteSparse); optional
+    from sksparse import cholmod as _cholmod
+except ImportError:  # pragma: no cover - depends on the installation
+    _cholmod = None
+
+HAVE_CHOLMOD = _cholmod is not None
+Solve = Callable[[np.ndarray], np.ndarray]
+Factorize = Callable[[sp.spmatrix], Solve]
+
+_SINGULAR = ("mechanism: the stiffness matrix is singular with the contact and spring dofs held "
+             "(a part of the mesh is not connected or not restrained)")
+
+
+def cholmod_factorize(K: sp.spmatrix) -> Solve:
+    """CHOLMOD supernodal Cholesky (fill-reducing ordering chosen by CHOLMOD)."""
+    if _cholmod is None:
+        raise ReferenceSolverError("CHOLMOD is not installed (pip install 'scikit-sparse<0.5')")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", _cholmod.CholmodTypeConversionWarning)
+            f = _cholmod.cholesky(sp.csc_matrix(K))
+    except _cholmod.CholmodNotPositiveDefiniteError:
+        raise ReferenceSolverError(_SINGULAR) from None
+    return f
+
+
+def splu_factorize(K: sp.spmatrix) -> Solve:
+    """SciPy SuperLU (symmetric-pattern ordering), the fallback without CHOLMOD."""
+    try:
+        lu = spla.splu(sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A")
+    except RuntimeError:
+        raise ReferenceSolverError(_SINGULAR) from None
+    return lu.solve
+
+
+def default_factorize() -> Factorize:
+    return cholmod_factorize if HAVE_CHOLMOD else splu_factorize
+
+
+def factorize_name(factorize: Factorize) -> str:
+    known = {cholmod_factorize: "cholmod", splu_factorize: "superlu"}
+    return known.get(factorize, getattr(factorize, "__name__", "custom"))
+
+
+@dataclass
+class Schur:
+    """Condensation of K onto the retained dofs r for the load vectors ``F`` (n, ncase).
+
+    ``S``: (nr, nr); ``fhat``: (nr, ncase) condensed loads f_r - K_ri K_ii^-1 f_i;
+    ``recover(u_r, coeffs)``: the full displacement for retained values u_r under sum_k coeffs_k F_k
+    (one solve; u_r (nr, m) and coeffs (ncase, m) recover m states at once).
+    """
+    S: np.ndarray
+    fhat: np.ndarray
+    recover: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    method: str
+    timings: dict = field(default_factory=dict)
+
+
+def _split(K: sp.spmatrix, r: np.ndarray):
+    n = K.shape[0]
+    mask = np.ones(n, bool)
+    mask[r] = False
+    i = np.flatnonzero(mask)
+    return i
+
+
+def schur_rhs(K: sp.spmatrix, r: np.ndarray, F: np.ndarray, factorize: Factorize,
+              block: int = 256) -> Schur:
+    """Factor K_ii with ``factorize`` and solve for the columns of K_ir in blocks of ``block``."""
+    t0 = time.perf_counter()
+    K = sp.csr_matrix(K)
+    n = K.shape[0]
+    i = _split(K, r)
+    Ki = K[i]
+    Kii = Ki[:, i].tocsc()
+    Kir = Ki[:, r].tocsc()
+    del Ki
+    Krr = K[r][:, r].toarray()
+    del K
+    t1 = time.perf_counter()
+    solve = factorize(Kii)
+    t2 = time.perf_counter()
+    S = Krr.copy()
+    for b in range(0, r.size, block):
+        X = np.asarray(solve(Kir[:, b:b + block].toarray()))
+        S[:, b:b + block] -= Kir.T @ X
+    V = np.asarray(solve(np.ascontiguousarray(F[i]))).reshape(i.size, -1)   # K_ii^-1 f_i per case
+    fhat = F[r] - Kir.T @ V
+    t3 = time.perf_counter()
+
+    def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
+        u = np.empty((n,) + np.shape(u_r)[1:])
+        u[r] = u_r
+        u[i] = V @ coeffs - np.asarray(solve(Kir @ u_r)).reshape(u[i].shape)
+        return u
+
+    return Schur(0.5 * (S + S.T), fhat, recover, f"rhs:{factorize_name(factorize)}",
+                 {"split_s": t1 - t0, "factor_s": t2 - t1, "schur_s": t3 - t2})
+
+
+def schur_trailing(K: sp.spmatrix, r: np.ndarray, F: np.ndarray) -> Schur:
+    """CHOLMOD factor of K + D0 with the retained dofs ordered last; S from the trailing block.
+
+    ``K`` is symmetric; the caller should not keep another reference to it (it is released as soon
+    as the permuted copy exists, to lower the peak memory).
+    """
+    if _cholmod is None:
+        raise ReferenceSolverError("schur='trailing' needs CHOLMOD (scikit-sparse)")
+    t0 = time.perf_counter()
+    K = sp.csr_matrix(K)
+    n, nr = K.shape[0], r.size
+    i = _split(K, r)
+    d0 = K.diagonal()[r]
+    if np.any(d0 <= 0):
+        raise ReferenceSolverError(_SINGULAR)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", _cholmod.CholmodTypeConversionWarning)
+        Kii = K[i][:, i]
+        Kii.sort_indices()
+        try:                                                         # fill-reducing order of K_ii
+            order = _cholmod.analyze(sp.csc_matrix((Kii.data, Kii.indices, Kii.indptr), shape=Kii.shape)).P()
+        except _cholmod.CholmodError:
+            raise ReferenceSolverError(_SINGULAR) from None
+        del Kii
+        perm = np.concatenate([i[order], r])
+        Kp = (K + sp.csr_matrix((d0, (r, r)), shape=K.shape))[perm][:, perm]
+        del K
+        Kp.sort_indices()
+        Kp = sp.csc_matrix((Kp.data, Kp.indices, Kp.indptr), shape=Kp.shape)  # symmetric: CSR = CSC^T
+        t1 = time.perf_counter()
+        try:
+            f = _cholmod.cholesky(Kp, ordering_method="natural")
+        except _cholmod.CholmodNotPositiveDefiniteError:
+            raise ReferenceSolverError(_SINGULAR) from None
+        del Kp
+    t2 = time.perf_counter()
+    P = f.P()
+    tail = P[n - nr:]
+    if not np.array_equal(np.sort(tail), np.arange(n - nr, n)):   # CHOLMOD moved r: not expected
+        raise ReferenceSolverError("schur='trailing': CHOLMOD reordered the retained dofs (use schur='rhs')")
+    L = f.L()                                                        # converts the factor to simplicial
+    Lrr = L[n - nr:, n - nr:].toarray()
+    del L
+    C = Lrr @ Lrr.T                                                  # S + D0 in the order tail
+    back = np.empty(nr, np.int64)
+    back[tail - (n - nr)] = np.arange(nr)
+    SD = C[np.ix_(back, back)]                                       # S + D0 in the order of r
+    S = SD - np.diag(d0)
+
+    def solve_aug(b_perm: np.ndarray) -> np.ndarray:
+        return np.asarray(f(b_perm))
+
+    ni = i.size
+    B = np.zeros((n, F.shape[1]))
+    B[:ni] = F[i[order]]
+    Y = solve_aug(B)[ni:].reshape(nr, -1)                            # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
+    fhat = F[r] + SD @ Y
+    t3 = time.perf_counter()
+
+    def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
+        shape = (n,) + np.shape(u_r)[1:]
+        b = np.empty(shape)
+        b[:ni] = F[i[order]] @ coeffs
+        b[ni:] = SD @ (u_r - Y @ coeffs)
+        u = np.empty(shape)
+        u[perm] = solve_aug(b).reshape(shape)
+        return u
+
+    return Schur(0.5 * (S + S.T), fhat, recover, "cholmod-trailing",
+                 {"split_s": t1 - t0, "factor_s": t2 - t1, "schur_s": t3 - t2})
+
+
+def cholesky_dense(A: np.ndarray):
+    """Dense Cholesky factor (scipy cho_factor) or None when A is not positive definite."""
+    try:
+        return sla.cho_factor(A, lower=True, check_finite=False)
+    except (np.linalg.LinAlgError, sla.LinAlgError):
+        return None

@@ -1,0 +1,147 @@
+"""The solver's input: plain arrays, validated once (shapes, finiteness, units in the field docs)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from .elements import ELEMENTS
+from .errors import ReferenceSolverError
+
+COUPLINGS = ("distributing", "kinematic")
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A hexahedral body resting on rigid master surfaces, loaded at a reference point.
+
+    Contact rows (one per slave node and master surface): ``contact_normals`` is the unit normal
+    of the master at the node, pointing into the body; the gap ``clearance + u . n`` opens (> 0) when
+    the node moves along it. ``contact_k`` is the closed penalty stiffness [N/m] (penalty method
+    only), ``contact_area`` the tributary area [m^2] used for sigma_n = -force / area.
+    Springs: always-active linear springs of stiffness ``spring_k`` [N/m] on the displacement of
+    ``spring_nodes`` along ``spring_dirs`` (e.g. circumferential restraint of the base ring).
+    Directions on one node (normals and spring directions) must be mutually orthogonal: they
+    become the axes of that node's local frame, so every contact and spring unknown is a real dof.
+    Loads: ``loads[name] = (Fx, Fy, Fz, Mx, My, Mz)`` [N, N m] at ``ref_point``, introduced on
+    ``coupling_nodes`` by a distributing (RBE3-like, weights ``coupling_weights``) or kinematic
+    (rigid, RBE2-like) coupling.
+    """
+    nodes: np.ndarray                 # (n, 3) [m]
+    hexes: np.ndarray                 # (m, 8) 0-based, C3D8 order
+    E: float                          # [Pa]
+    nu: float                         # [-]
+    contact_nodes: np.ndarray         # (nc,)
+    contact_normals: np.ndarray       # (nc, 3)
+    contact_area: np.ndarray          # (nc,) [m^2]
+    contact_k: np.ndarray             # (nc,) [N/m]
+    contact_clearance: np.ndarray     # (nc,) [m], >= 0
+    contact_surface: np.ndarray       # (nc,) labels, e.g. 'table', 'stop'
+    spring_nodes: np.ndarray          # (ns,)
+    spring_dirs: np.ndarray           # (ns, 3)
+    spring_k: np.ndarray              # (ns,) [N/m]
+    ref_point: np.ndarray             # (3,) [m]
+    coupling_nodes: np.ndarray        # (nt,)
+    coupling_weights: np.ndarray      # (nt,) > 0
+    loads: Mapping[str, np.ndarray]   # name -> (6,) force and moment at ref_point
+    coupling: str = "distributing"
+    k_open_ratio: float = 1.0e-6      # open stiffness / closed stiffness (penalty)
+    element: str = "c3d8i"
+    friction: float = 0.0             # Coulomb mu: only checked against the spring forces, not modelled
+    max_displacement: float | None = None   # beyond this [m] a solution counts as tipped over (default: size)
+    extra: dict = field(default_factory=dict, compare=False)
+
+    def __post_init__(self):
+        arr = lambda name, dt=float: object.__setattr__(self, name, np.asarray(getattr(self, name), dt))  # noqa: E731
+        for name in ("nodes", "contact_normals", "contact_area", "contact_k", "contact_clearance",
+                     "spring_dirs", "spring_k", "ref_point", "coupling_weights"):
+            arr(name)
+        for name in ("hexes", "contact_nodes", "spring_nodes", "coupling_nodes"):
+            arr(name, np.int64)
+        object.__setattr__(self, "contact_surface", np.asarray(self.contact_surface, str))
+        object.__setattr__(self, "loads", {k: np.asarray(v, float).reshape(6) for k, v in self.loads.items()})
+        self._validate()
+
+    @property
+    def n_nodes(self) -> int:
+        return self.nodes.shape[0]
+
+    @property
+    def n_contacts(self) -> int:
+        return self.contact_nodes.size
+
+    @property
+    def n_springs(self) -> int:
+        return self.spring_nodes.size
+
+    def length_scale(self) -> float:
+        """Diagonal of the bounding box [m]."""
+        return float(np.linalg.norm(self.nodes.max(axis=0) - self.nodes.min(axis=0)))
+
+    def _validate(self) -> None:
+        n = self.nodes.shape[0] if self.nodes.ndim == 2 else 0
+        def bad(msg):
+            raise ReferenceSolverError(msg)
+        if self.nodes.ndim != 2 or self.nodes.shape[1] != 3 or n == 0:
+            bad("nodes: expected an (n, 3) array")
+        if self.hexes.ndim != 2 or self.hexes.shape[1] != 8 or self.hexes.size == 0:
+            bad("hexes: expected an (m, 8) array")
+        if self.hexes.min() < 0 or self.hexes.max() >= n:
+            bad("hexes: node index out of range")
+        if self.element not in ELEMENTS:
+            bad(f"element = {self.element!r}: must be one of {', '.join(ELEMENTS)}")
+        if self.coupling not in COUPLINGS:
+            bad(f"coupling = {self.coupling!r}: must be one of {', '.join(COUPLINGS)}")
+        if not (np.isfinite(self.E) and self.E > 0):
+            bad(f"E = {self.E!r}: must be a finite positive number")
+        if not (np.isfinite(self.nu) and -1 < self.nu < 0.5):
+            bad(f"nu = {self.nu!r}: must be in (-1, 0.5)")
+        nc, ns, nt = self.contact_nodes.size, self.spring_nodes.size, self.coupling_nodes.size
+        for name, a, shape in (("contact_normals", self.contact_normals, (nc, 3)),
+                               ("contact_area", self.contact_area, (nc,)),
+                               ("contact_k", self.contact_k, (nc,)),
+                               ("contact_clearance", self.contact_clearance, (nc,)),
+                               ("contact_surface", self.contact_surface, (nc,)),
+                               ("spring_dirs", self.spring_dirs, (ns, 3)),
+                               ("spring_k", self.spring_k, (ns,)),
+                               ("coupling_weights", self.coupling_weights, (nt,)),
+                               ("ref_point", self.ref_point, (3,))):
+            if a.shape != shape:
+                bad(f"{name}: shape {a.shape}, expected {shape}")
+            if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+                bad(f"{name}: contains NaN or infinite values")
+        if not np.all(np.isfinite(self.nodes)):
+            bad("nodes: contains NaN or infinite values")
+        for name, idx in (("contact_nodes", self.contact_nodes), ("spring_nodes", self.spring_nodes),
+                          ("coupling_nodes", self.coupling_nodes)):
+            if idx.size and (idx.min() < 0 or idx.max() >= n):
+                bad(f"{name}: node index out of range")
+        if nc and np.any(np.abs(np.linalg.norm(self.contact_normals, axis=1) - 1) > 1e-9):
+            bad("contact_normals: must be unit vectors")
+        if ns and np.any(np.abs(np.linalg.norm(self.spring_dirs, axis=1) - 1) > 1e-9):
+            bad("spring_dirs: must be unit vectors")
+        if np.any(self.contact_area <= 0):
+            bad("contact_area: must be > 0")
+        if np.any(self.contact_k <= 0):
+            bad("contact_k: must be > 0")
+        if np.any(self.contact_clearance < 0):
+            bad("contact_clearance: must be >= 0")
+        if np.any(self.spring_k < 0):
+            bad("spring_k: must be >= 0")
+        if nt == 0 or np.any(self.coupling_weights <= 0):
+            bad("coupling_nodes/weights: need at least one node and positive weights")
+        if np.unique(self.coupling_nodes).size != nt:
+            bad("coupling_nodes: repeated node")
+        if not (0 < self.k_open_ratio < 1):
+            bad(f"k_open_ratio = {self.k_open_ratio!r}: must be in (0, 1)")
+        if not (np.isfinite(self.friction) and self.friction >= 0):
+            bad(f"friction = {self.friction!r}: must be >= 0")
+        for name, v in self.loads.items():
+            if not np.all(np.isfinite(v)):
+                bad(f"loads[{name!r}]: contains NaN or infinite values")
+        if self.coupling == "kinematic":
+            both = np.intersect1d(self.coupling_nodes, np.concatenate([self.contact_nodes, self.spring_nodes]))
+            if both.size:
+                bad(f"node {int(both[0])}: a kinematic coupling node cannot carry contact or springs")
