@@ -161,7 +161,7 @@ class Penalty:
     alpha: float = 0.1
     k_normal: float | None = None
     k_tangent: float | None = None
-    open_ratio: float = 1.0e-6
+    open_ratio: float = 1.0e-12
 
     def __post_init__(self):
         _put(self, "alpha", _num("contact.penalty.alpha", self.alpha, gt=0))
