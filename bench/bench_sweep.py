@@ -1,0 +1,103 @@
+"""Benchmark: ``deckbridge sweep`` (six k-factors + Lagrange, one condensation, Dask) against the same
+seven solves run as separate ``deckbridge solve`` commands (penalty --k-factor F each, one Lagrange).
+
+Both sides are timed as whole commands in subprocesses (interpreter start, imports, cluster start,
+writing outputs included), alternately, ``--repeat`` times; the ratio of the medians is printed with
+the sweep's own breakdown (run.json). Target: the sweep at least 3x faster.
+
+BLAS threads: the separate solves run with OPENBLAS_NUM_THREADS=OMP_NUM_THREADS=1 by default, the
+faster setting for them (the sweep's workers use one thread each anyway). With ``--blas-default``
+they run in the caller's environment: on a busy 2-core machine their many small dense Cholesky
+factorisations then spin in OpenBLAS threads and one solve took 36-68 s instead of about 5 s, which
+would flatter the sweep.
+
+    python bench/bench_sweep.py                       # default JAR model, 0.01 ... 1000
+    python bench/bench_sweep.py --repeat 3 --set mesh.n_theta=120 --workers 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+K_FACTORS = "0.01,0.1,1,10,100,1000"
+
+
+def _cli() -> list[str]:
+    exe = Path(sys.executable).with_name("deckbridge")
+    return [str(exe)] if exe.exists() else [sys.executable, "-m", "deckbridge.cli"]
+
+
+def _timed(cmd: list[str], env: dict | None = None) -> float:
+    t = time.perf_counter()
+    res = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    dt = time.perf_counter() - t
+    if res.returncode != 0:
+        raise SystemExit(f"failed ({res.returncode}): {' '.join(cmd)}\n{res.stderr[-2000:]}")
+    return dt
+
+
+def separate_solves(work: Path, k_factors: list[str], sets: list[str], env: dict | None) -> float:
+    t = 0.0
+    for k in k_factors:
+        t += _timed(_cli() + ["solve", "--method", "penalty", "--k-factor", k, *sets, "-o", str(work / f"k{k}")], env)
+    t += _timed(_cli() + ["solve", "--method", "lagrange", *sets, "-o", str(work / "lagrange")], env)
+    return t
+
+
+def sweep(work: Path, k_factors: list[str], sets: list[str], extra: list[str]) -> tuple[float, dict]:
+    out = work / "sweep"
+    t = _timed(_cli() + ["sweep", "--k-factors", ",".join(k_factors), *sets, *extra, "-o", str(out)])
+    return t, json.loads((out / "run.json").read_text())
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--k-factors", default=K_FACTORS)
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--strategy", choices=["split", "mesh"], default=None)
+    ap.add_argument("--blas-default", action="store_true",
+                    help="run the separate solves with the caller's BLAS threads (default: one thread)")
+    args = ap.parse_args()
+    env = None if args.blas_default else {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
+                                          "MKL_NUM_THREADS": "1"}
+    ks = [k.strip() for k in args.k_factors.split(",")]
+    sets = [x for s in args.sets for x in ("--set", s)]
+    extra = (["--workers", str(args.workers)] if args.workers else []) + (
+        ["--strategy", args.strategy] if args.strategy else [])
+    print(f"cores: {os.cpu_count()}; k-factors {','.join(ks)} + lagrange; model overrides {args.sets or 'none'}; "
+          f"separate solves with {'the default BLAS threads' if env is None else 'one BLAS thread'}")
+    seps, sws, runs = [], [], []
+    for i in range(args.repeat):
+        with tempfile.TemporaryDirectory(prefix="bench_sweep_") as tmp:
+            work = Path(tmp)
+            seps.append(separate_solves(work, ks, sets, env))
+            shutil.rmtree(work, ignore_errors=True)
+            work.mkdir(exist_ok=True)
+            t, run = sweep(work, ks, sets, extra)
+            sws.append(t)
+            runs.append(run)
+        print(f"run {i + 1}: {len(ks) + 1} separate solves {seps[-1]:.2f} s, sweep {sws[-1]:.2f} s, "
+              f"ratio {seps[-1] / sws[-1]:.2f}x", flush=True)
+    a, b = statistics.median(seps), statistics.median(sws)
+    run = runs[-1]
+    cond = {v["condensed_on"]: v["condense_s"] for v in run["case_timings_s"].values()}
+    solves = [v["wall_time_s"] for v in run["case_timings_s"].values()]
+    print(f"sweep ({run['executor']}): phases {', '.join(f'{k} {v:.2f} s' for k, v in run['timings_s'].items())}; "
+          f"condensation {sum(cond.values()):.2f} s ({len(cond)}x), case solves {sum(solves):.2f} s in all")
+    print(f"median of {args.repeat}: separate solves {a:.2f} s, sweep {b:.2f} s -> sweep is {a / b:.2f}x faster "
+          f"(target >= 3x)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,102 @@
+"""``deckbridge sweep`` (penalty sensitivity against Lagrange, on Dask) and ``deckbridge liftoff``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from ..errors import DeckbridgeError
+from ..outdir import staged
+from ..studies.cases import mesh_variants, parse_k_factors, parse_mesh_options
+from ..studies.liftoff import critical_load, format_table
+from ..studies.metrics import rnd
+from ._common import main, model_options
+
+DEFAULT_K = "0.01,0.1,1,10,100,1000"
+
+
+@main.command("sweep")
+@model_options
+@click.option("--k-factors", "k_factors", default=DEFAULT_K, show_default=True, metavar="F1,F2,...",
+              help="Penalty factors on the model's normal contact stiffness k_c.")
+@click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
+              help="Study folder: summary.json, sweep.csv, report.html, run.json and cases/ (resumable).")
+@click.option("--mesh", "mesh_opts", multiple=True, metavar="KEY=V1,V2,...",
+              help="Mesh variants, e.g. --mesh n_theta=60,120,240 (repeatable: the product is swept).")
+@click.option("--tol", type=float, default=0.02, show_default=True,
+              help="Recommended k: within TOL x |Lagrange peak compression| at every compared load factor.")
+@click.option("--load-factor", "load_factors", multiple=True, type=float, metavar="L",
+              help="Compare at load factor L (repeatable) instead of: end of step 1, first liftoff, end of step 2.")
+@click.option("--open-stiffness", type=click.Choice(["scaled", "fixed"]), default="scaled", show_default=True,
+              help="Open-gap stiffness: scaled (open_ratio x k, as a PGAP KB = ratio x KA) or fixed "
+                   "(open_ratio x k_c whatever the k-factor).")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="Run on an existing Dask cluster (e.g. tcp://host:8786) instead of a local one.")
+@click.option("--workers", type=int, default=None,
+              help="Worker processes of the local Dask cluster [default: the machine's cores].")
+@click.option("--strategy", type=click.Choice(["split", "mesh"]), default="split", show_default=True,
+              help="split: one condensation task per mesh, one task per case; mesh: one task per mesh.")
+def sweep_cmd(model, k_factors, outdir, mesh_opts, tol, load_factors, open_stiffness, scheduler, workers, strategy):
+    """Penalty sensitivity of MODEL: every k-factor (and mesh) against the Lagrange reference."""
+    from ..studies.cluster import open_client
+    from ..studies.sweep import check_options, run_sweep
+
+    ks = parse_k_factors(k_factors)
+    meshes = parse_mesh_options(mesh_opts)
+    check_options(ks, tol, open_stiffness, strategy, model, list(load_factors))
+    mesh_variants(model, meshes)                 # a bad mesh value fails here, before any work
+    with open_client(scheduler, workers) as client:
+        out = run_sweep(model, ks, outdir, meshes=meshes, tol=tol, load_factors=list(load_factors) or None,
+                        open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True)
+    s, run = out["summary"], out["run"]
+    click.echo(f"{len(run['computed'])} cases computed, {len(run['reused'])} reused from {Path(outdir) / 'cases'}"
+               + (f", {len(run['failed_now'])} failed" if run["failed_now"] else "")
+               + f" ({run['executor']})")
+    for m in s["meshes"]:
+        lag = m["lagrange"]
+        click.echo(f"mesh {m['mesh']}: Lagrange liftoff lambda = {_f(lag.get('liftoff_load_factor'))}")
+        click.echo(f"  {'k-factor':>9} {'max|dsig| MPa':>14} {'% of peak':>10} {'IoU':>6} {'peak MPa':>9} "
+                   f"{'liftoff':>8}  within tol")
+        for d in m["penalty"]:
+            if d.get("error"):
+                click.echo(f"  {d['k_factor']:>9g}  failed: {d['error']}")
+                continue
+            click.echo(f"  {d['k_factor']:>9g} {d['max_abs_diff_pa'] / 1e6:>14.3f} {d['max_rel_diff'] * 100:>10.2f} "
+                       f"{d['liftoff_zone_iou']:>6.3f} {d['peak_compression_pa'] / 1e6:>9.2f} "
+                       f"{_f(d['liftoff_load_factor']):>8}  {'yes' if d['within_tol'] else 'no'}")
+        if not m.get("max_rel_diff_never_grows_with_k"):
+            click.echo("  note: max |dsig| grows again at large k (open gaps carry k_open x gap; "
+                       "try --open-stiffness fixed or a smaller contact.penalty.open_ratio)")
+    rec = s["recommended_k_factor"]
+    click.echo("recommended k-factor: " + (f"{rec:g}" if rec is not None else "none") + f" ({s['recommended_k_factor_note']})")
+    for p in out["paths"]:
+        click.echo(f"wrote {p}")
+
+
+def _f(v) -> str:
+    return "none" if v is None else f"{v:.4f}"
+
+
+@main.command("liftoff")
+@model_options
+@click.option("--method", type=click.Choice(["penalty", "lagrange", "both"]), default="both", show_default=True,
+              help="Contact method(s); with both, the difference is printed.")
+@click.option("--tol", type=float, default=1e-3, show_default=True,
+              help="Tolerance on the critical load factor (absolute, in lambda).")
+@click.option("--k-factor", "k_factor", type=float, default=None,
+              help="Penalty: factor on the model's normal contact stiffness [default: 1].")
+@click.option("-o", "--out", "outdir", default=None, type=click.Path(file_okay=False),
+              help="Also write DIR/summary.json (per method lambda_c and theta_deg).")
+def liftoff_cmd(model, method, tol, k_factor, outdir):
+    """Critical load factor lambda_c (on T and M in step 2) at which liftoff begins, and where."""
+    methods = ("penalty", "lagrange") if method == "both" else (method,)
+    if k_factor is not None and "penalty" not in methods:
+        raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method penalty or both")
+    res = critical_load(model, methods, tol=tol, k_factor=1.0 if k_factor is None else k_factor)
+    click.echo(format_table(res))
+    if outdir is not None:
+        with staged(outdir) as stage:
+            (stage / "summary.json").write_text(json.dumps(rnd(res), indent=2) + "\n")
+        click.echo(f"wrote {Path(outdir) / 'summary.json'}")

@@ -1,0 +1,111 @@
+"""Critical load factor of liftoff: the lambda on (T, M) in step 2 at which the first table node lifts.
+
+``critical_load(model, methods, tol)`` condenses the model once and, per method, runs the load path
+(step 1 N, step 2 N + lambda (T, M)) with the solver's bisection of the onset to ``tol`` in lambda
+(absolute): ``lambda_c`` is the smallest load factor found lifted, the onset lies in
+[lambda_c - tol, lambda_c]. When nothing lifts off up to ``steps.lambda_max`` the search goes on beyond it, doubling
+the range up to ``EXPAND`` x lambda_max, and says so; when nothing lifts off there either, lambda_c is
+None with the reason. Beam theory for a thin ring under M_b = lambda (M + T H): lambda_c = N R / (2 M_b(1)).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import reference_solver as rs
+
+from ..errors import DeckbridgeError
+from ..model import Model
+from ..solve import condense_model, penalty_factor
+from .tasks import one_blas_thread
+
+EXPAND = 100.0          # search up to this many times steps.lambda_max
+METHODS = ("penalty", "lagrange")
+
+
+def _theta(system, row: int) -> float:
+    p = system.problem
+    x, y = p.nodes[p.contact_nodes[row], :2]
+    return float(np.mod(np.degrees(np.arctan2(y, x)), 360.0))
+
+
+def _one(model: Model, system, method: str, tol: float, k_factor: float) -> dict:
+    lam_max = model.steps.lambda_max
+    top = EXPAND * lam_max
+    hi = lam_max
+    tried = []
+    while True:
+        try:
+            sol = rs.solve_path(system, method, k_factor, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
+                                lambda_max=hi, increments=model.steps.increments, liftoff_surface="table",
+                                liftoff_tol=tol / hi, recover=False)
+        except rs.ReferenceSolverError as exc:
+            raise DeckbridgeError(f"model {model.name!r}, {method}: {exc}") from None
+        tried.append(hi)
+        if sol.liftoff_load_factor is not None or hi >= top:
+            break
+        hi = min(2.0 * hi, top)
+    lam = sol.liftoff_load_factor
+    out = {"method": method, "k_factor": k_factor if method == "penalty" else None,
+           "lambda_c": lam, "theta_deg": None if lam is None else _theta(system, sol.liftoff_row),
+           "bracket": None if lam is None else [max(0.0, lam - tol), lam],
+           "tol": tol, "searched_up_to": hi, "expanded": hi > lam_max, "lambda_max": lam_max,
+           "base_moment_at_lambda_c_nm": None if lam is None else lam * model.base_moment}
+    if lam is None:
+        out["message"] = (f"no liftoff up to lambda = {hi:g} ({EXPAND:g} x steps.lambda_max = {lam_max:g})"
+                          + ("; M + T H = 0: step 2 does not bend the skirt" if model.base_moment == 0 else ""))
+    elif out["expanded"]:
+        out["message"] = (f"no liftoff up to steps.lambda_max = {lam_max:g}: searched beyond it, "
+                          f"found at lambda = {lam:.6g}")
+    else:
+        out["message"] = None
+    return out
+
+
+def critical_load(model: Model, methods: tuple[str, ...] | list[str] = METHODS, tol: float = 1e-3,
+                  k_factor: float = 1.0) -> dict:
+    """lambda_c and its azimuth per method (one condensation for all); with two methods, the difference."""
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+        raise DeckbridgeError(f"--tol = {tol!r}: must be a positive number (absolute, in load factor)")
+    if tol >= model.steps.lambda_max:
+        raise DeckbridgeError(f"--tol = {tol!r}: must be smaller than steps.lambda_max = {model.steps.lambda_max:g}")
+    for m in methods:
+        if m not in METHODS:
+            raise DeckbridgeError(f"--method = {m!r}: must be penalty, lagrange or both")
+    kf = penalty_factor(model, k_factor)
+    _, system = condense_model(model)
+    with one_blas_thread():
+        res = {m: _one(model, system, m, tol, kf) for m in methods}
+    g = model.geometry
+    out = {"model": model.name, "load_introduction": model.load_introduction, "tol": tol,
+           "beam_theory_lambda_c": (model.loads.N * g.radius / 2 / model.base_moment
+                                    if model.base_moment > 0 else None),
+           "base_moment_nm_at_lambda_1": model.base_moment, "methods": list(methods), **res}
+    if len(methods) == 2:
+        a, b = (res[m]["lambda_c"] for m in METHODS)
+        out["difference"] = None if a is None or b is None else {
+            "penalty_minus_lagrange": a - b, "relative_to_lagrange": (a - b) / b if b else None}
+    return out
+
+
+def format_table(result: dict) -> str:
+    """The result as a plain-text table (one line per method), then notes."""
+    lines = [f"{'method':<18} {'lambda_c':>10} {'theta [deg]':>12} {'M_b [N m]':>12}  note"]
+    for m in result["methods"]:
+        r = result[m]
+        lam = "none" if r["lambda_c"] is None else f"{r['lambda_c']:.5f}"
+        th = "-" if r["theta_deg"] is None else f"{r['theta_deg']:.1f}"
+        mb = "-" if r["base_moment_at_lambda_c_nm"] is None else f"{r['base_moment_at_lambda_c_nm']:.4g}"
+        name = m if m == "lagrange" else f"penalty (k x {r['k_factor']:g})"
+        lines.append(f"{name:<18} {lam:>10} {th:>12} {mb:>12}  {r['message'] or ''}".rstrip())
+    d = result.get("difference")
+    if d is not None:
+        rel = "" if d["relative_to_lagrange"] is None else f" ({d['relative_to_lagrange'] * 100:+.2f} % of Lagrange)"
+        lines.append(f"difference penalty - lagrange: {d['penalty_minus_lagrange']:+.5f}{rel}")
+    bt = result["beam_theory_lambda_c"]
+    lines.append(f"beam theory (thin ring, rigid section) N R / (2 (M + T H)): "
+                 + ("none (M + T H = 0)" if bt is None else f"{bt:.5f}")
+                 + f"; tolerance {result['tol']:g} in lambda")
+    return "\n".join(lines)

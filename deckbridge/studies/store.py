@@ -1,0 +1,118 @@
+"""On-disk store of finished cases: ``DIR/cases/<case_id>.csv`` (the tidy contact table) and
+``DIR/cases/<case_id>.json`` (its spec, summary and provenance), each written atomically.
+
+The JSON is written last and names the table's row count and sha256, so a case counts as done
+only when both files are whole and match the case's spec; anything else is recomputed. A case
+whose solve failed with a one-line error (a load that tips the skirt over, say) is recorded with
+that error and no table: it is deterministic, so it is not retried. Tables are
+CSV with shortest round-trip floats, read back with ``float_precision='round_trip'``: a stored
+case reads back bit for bit. ``DIR/cases/log.jsonl`` gets one line per case computed (run id,
+case id, wall time), so a resumed study can show what it recomputed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import pandas as pd
+
+from ..errors import DeckbridgeError
+from ..outdir import prepare, write_text
+from ..results import conform
+from .cases import Case
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+class CaseStore:
+    """Finished cases of a study under ``root/cases``."""
+
+    def __init__(self, root: str | Path):
+        self.root = prepare(root)
+        self.dir = prepare(self.root / "cases")
+
+    def table_path(self, case: Case) -> Path:
+        return self.dir / f"{case.case_id}.csv"
+
+    def meta_path(self, case: Case) -> Path:
+        return self.dir / f"{case.case_id}.json"
+
+    def meta(self, case: Case) -> dict | None:
+        """The stored record of ``case`` when complete and valid, else None."""
+        mp, tp = self.meta_path(case), self.table_path(case)
+        if not mp.is_file():
+            return None
+        try:
+            rec = json.loads(mp.read_text())
+        except (OSError, ValueError):
+            return None
+        if rec.get("spec") != json.loads(json.dumps(case.spec)):
+            return None
+        if rec.get("error"):                       # a case that failed for good (e.g. tips over)
+            return rec
+        if not tp.is_file() or rec.get("table_sha256") != _sha256(tp):
+            return None
+        return rec
+
+    def has(self, case: Case) -> bool:
+        return self.meta(case) is not None
+
+    def put(self, case: Case, table: pd.DataFrame, summary: dict, run_id: str, extra: dict | None = None) -> Path:
+        """Store one finished case: table first (temp file + rename), then its JSON record."""
+        tp = self.table_path(case)
+        fd, tmp = tempfile.mkstemp(prefix=f".{tp.name}.", dir=self.dir)
+        try:
+            with os.fdopen(fd, "w", newline="") as fh:
+                conform(table).to_csv(fh, index=False)
+            os.replace(tmp, tp)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
+        rec = {"case_id": case.case_id, "label": case.label, "mesh": case.mesh.label,
+               "spec": case.spec, "summary": summary, "rows": int(len(table)), "table": tp.name,
+               "table_sha256": _sha256(tp), "run_id": run_id, "stored_at": time.time(), **(extra or {})}
+        write_text(self.meta_path(case), json.dumps(rec, indent=1, default=str) + "\n")
+        with open(self.dir / "log.jsonl", "a") as fh:
+            fh.write(json.dumps({"run_id": run_id, "case_id": case.case_id,
+                                 "wall_time_s": (extra or {}).get("wall_time_s")}) + "\n")
+        return tp
+
+    def put_failed(self, case: Case, error: str, run_id: str) -> Path:
+        """Record a case whose solve failed with a one-line (deterministic) error: not retried."""
+        with contextlib.suppress(OSError):
+            self.table_path(case).unlink()
+        rec = {"case_id": case.case_id, "label": case.label, "mesh": case.mesh.label, "spec": case.spec,
+               "error": str(error), "run_id": run_id, "stored_at": time.time()}
+        write_text(self.meta_path(case), json.dumps(rec, indent=1, default=str) + "\n")
+        with open(self.dir / "log.jsonl", "a") as fh:
+            fh.write(json.dumps({"run_id": run_id, "case_id": case.case_id, "error": str(error)}) + "\n")
+        return self.meta_path(case)
+
+    def table(self, case: Case) -> pd.DataFrame:
+        """The stored contact table of ``case`` (exactly as computed)."""
+        path = self.table_path(case)
+        try:
+            df = pd.read_csv(path, float_precision="round_trip")
+        except (OSError, ValueError) as exc:
+            raise DeckbridgeError(f"{path}: cannot read the stored case table ({exc})") from None
+        return conform(df)
+
+    def log(self) -> list[dict]:
+        """Every line of the computation log, oldest first."""
+        path = self.dir / "log.jsonl"
+        if not path.is_file():
+            return []
+        return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]

@@ -1,0 +1,120 @@
+"""Work done on the Dask workers (or in process): condense a mesh variant once, solve cases on it.
+
+Functions here take and return plain picklable data: the model as a dict, the condensed system
+stripped of what only field recovery needs (the sparse factor, which cannot leave its process).
+Errors are :class:`DeckbridgeError` with a one-line message; the ``*_or_error`` variants (the Dask
+tasks) return them instead of raising.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import socket
+import time
+
+import numpy as np
+import pandas as pd
+
+from ..errors import DeckbridgeError
+from ..model import Model
+
+
+@dataclasses.dataclass
+class Condensed:
+    """A mesh variant's mesh and condensed system, ready for any number of cases (no recovery)."""
+    mesh: object
+    system: object
+    condense_s: float
+    where: str
+
+
+def one_blas_thread():
+    """Context: BLAS / OpenMP pools limited to one thread (threadpoolctl).
+
+    The contact iterations factor many small dense matrices (a few hundred rows): threads do not pay
+    there, and on a busy machine OpenBLAS threads spinning for a core made one solve of the default
+    model take 36-68 s instead of about 5 s (2 cores, measured).
+    """
+    from threadpoolctl import threadpool_limits
+    return threadpool_limits(limits=1)
+
+
+def where() -> str:
+    return f"{socket.gethostname()}:{os.getpid()}"
+
+
+def condense_variant(model_dict: dict) -> Condensed:
+    """Mesh, assemble, factor and condense once; the result serves every method and k-factor."""
+    from ..solve import condense_model
+
+    t0 = time.perf_counter()
+    model = Model.from_dict(model_dict)
+    mesh, system = condense_model(model)
+    light = dataclasses.replace(system, S=np.zeros((0, 0)), fhat=np.zeros((0, 0)), schur=None)
+    return Condensed(mesh, light, time.perf_counter() - t0, where())
+
+
+def _system_for(system, method: str, k_factor: float, open_stiffness: str):
+    """The system whose problem gives the open-gap stiffness the case asks for."""
+    if method != "penalty" or open_stiffness == "scaled":
+        return system
+    p = system.problem
+    ratio = p.k_open_ratio / k_factor          # KB = open_ratio * k_c at every k-factor
+    if not 0 < ratio < 1:
+        raise DeckbridgeError(f"--open-stiffness fixed with k-factor {k_factor:g}: the open stiffness "
+                              f"(open_ratio {p.k_open_ratio:g} x k_c) would not be below the closed one")
+    return dataclasses.replace(system, problem=dataclasses.replace(p, k_open_ratio=ratio))
+
+
+def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float | None,
+               open_stiffness: str = "scaled") -> tuple[pd.DataFrame, dict, dict]:
+    """Solve one case on a condensed variant: (tidy contact table, solver summary, provenance)."""
+    from ..solve import solve_system
+
+    t0 = time.perf_counter()
+    model = Model.from_dict(model_dict)
+    kf = 1.0 if k_factor is None else float(k_factor)
+    system = _system_for(cond.system, method, kf, open_stiffness)
+    try:
+        with one_blas_thread():
+            df, summary, _ = solve_system(model, cond.mesh, system, method, kf, recover=False)
+    except DeckbridgeError:
+        raise
+    except Exception as exc:        # anything else crosses the process boundary as one line
+        raise DeckbridgeError(f"model {model.name!r}, {method}: {type(exc).__name__}: {exc}") from None
+    if method == "penalty":
+        summary["open_stiffness"] = open_stiffness
+        summary["k_open_ratio_used"] = float(system.problem.k_open_ratio)
+    prov = {"wall_time_s": time.perf_counter() - t0, "condense_s": cond.condense_s,
+            "condensed_on": cond.where, "solved_on": where()}
+    return df, summary, prov
+
+
+# Dask tasks: an expected failure (a model that tips over, say) comes back as a value, not as a
+# task error, so that workers do not log it and the other cases go on.
+def condense_or_error(model_dict: dict) -> Condensed | DeckbridgeError:
+    try:
+        return condense_variant(model_dict)
+    except DeckbridgeError as exc:
+        return exc
+
+
+def solve_or_error(cond: Condensed | DeckbridgeError, model_dict: dict, method: str, k_factor: float | None,
+                   open_stiffness: str = "scaled"):
+    """:func:`solve_case`, or the :class:`DeckbridgeError` of the condensation or of the solve."""
+    if isinstance(cond, DeckbridgeError):
+        return cond
+    try:
+        return solve_case(cond, model_dict, method, k_factor, open_stiffness)
+    except DeckbridgeError as exc:
+        return exc
+
+
+def solve_variant_batch(model_dict: dict, jobs: list[tuple[str, float | None, str]]) -> list:
+    """Condense once and solve every job (method, k_factor, open_stiffness) of one variant, in order.
+
+    Each item is the job's result, or the :class:`DeckbridgeError` it ended with.
+    """
+    cond = condense_or_error(model_dict)
+    return [solve_or_error(cond, model_dict, *job) for job in jobs]
