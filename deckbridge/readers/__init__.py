@@ -26,7 +26,6 @@ class Reader:
 
 
 READERS: dict[str, Reader] = {}
-_MODULES = ("reference", "calculix", "nastran_op2", "mystran_f06", "abaqus_dat", "plain_csv")
 
 
 def register(name: str, detect: Callable[[Path], bool]):
@@ -38,13 +37,8 @@ def register(name: str, detect: Callable[[Path], bool]):
 
 
 def _load_all() -> None:
-    import importlib
-    for mod in _MODULES:
-        try:
-            importlib.import_module(f"{__name__}.{mod}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{mod}":
-                raise
+    """Import every reader module (importing one registers it)."""
+    from . import abaqus_dat, calculix, mystran_f06, nastran_op2, plain_csv, reference  # noqa: F401
 
 
 def detect(path: str | Path) -> str:

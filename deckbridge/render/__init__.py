@@ -25,18 +25,9 @@ def register(name: str):
     return deco
 
 
-_MODULES = ("nastran", "mystran", "abaqus", "calculix")
-
-
 def _load_all() -> None:
     """Import every renderer module (importing one registers it)."""
-    import importlib
-    for mod in _MODULES:
-        try:
-            importlib.import_module(f"{__name__}.{mod}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{mod}":
-                raise
+    from . import abaqus, calculix, mystran, nastran  # noqa: F401
 
 
 def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,

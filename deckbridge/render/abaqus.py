@@ -27,7 +27,7 @@ from ..model import Model
 from ..outdir import safe_filename
 from . import register
 from ._env import render
-from .inp_cards import element_lines, face_lines, id_lines, layout, node_block, real, reals, spring_groups
+from .inp_cards import element_lines, face_lines, layout, node_block, real, shared_context
 
 INC_LIMIT = 1000   # *STEP, INC= (upper bound; DIRECT takes exactly the given increments)
 
@@ -35,10 +35,6 @@ INC_LIMIT = 1000   # *STEP, INC= (upper bound; DIRECT takes exactly the given in
 def context(model: Model, mesh: SkirtMesh) -> dict:
     lay = layout(model, mesh, masters=("table", "stop"))
     rings = [r for r in (lay.table_master, lay.stop_master) if r is not None]
-    springs = spring_groups(mesh.k_tangent, mesh.table.nodes + 1, lay.next_elem)
-    lv, s = lay.loads, model.steps
-    step2 = {1: lv["T_force"][0] * s.lambda_max, 2: lv["T_force"][1] * s.lambda_max, 3: lv["N_force"][2],
-             4: lv["M_moment"][0] * s.lambda_max, 5: lv["M_moment"][1] * s.lambda_max}
     pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table),
               "master": face_lines(lay.table_master.elem_ids, lay.table_master.face)}]
     if lay.stop_master is not None:
@@ -46,27 +42,12 @@ def context(model: Model, mesh: SkirtMesh) -> dict:
                       "master": face_lines(lay.stop_master.elem_ids, lay.stop_master.face)})
     mu = model.contact.friction
     return {
-        "title": model.title, "name": model.name,
-        "skirt_elems": element_lines(np.arange(1, mesh.hexes.shape[0] + 1), mesh.hexes + 1),
-        "ref_node": lay.ref_node,
+        **shared_context(model, lay, INC_LIMIT),
         **node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                      [("NMASTER", np.concatenate([r.node_ids for r in rings]),
                        np.vstack([r.nodes for r in rings]))]),
         "master_elems": "\n".join(element_lines(r.elem_ids, r.conn) for r in rings),
-        "table_nodes": id_lines(mesh.table.nodes + 1),
-        "stop_nodes": id_lines(mesh.stop.nodes + 1) if mesh.stop is not None else "",
         "pairs": pairs, "friction": real(mu), "lagrange_friction": mu > 0,
-        "springs": [{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]), "k_str": real(g["k"])}
-                    for g in springs],
-        "top_faces": face_lines(lay.top_elems, "S2"),
-        "E": real(model.material.E), "nu": real(model.material.nu),
-        "kinematic": model.load_introduction == "kinematic",
-        "step1_loads": [(3, real(lv["N_force"][2]))],
-        "step2_loads": [(dof, real(v)) for dof, v in step2.items()],
-        # initial increment, step period, minimum and maximum increment (all equal: fixed increments)
-        "step1_inc": reals([1.0, 1.0, 1.0, 1.0]),
-        "step2_inc": reals([1.0 / s.increments, 1.0, 1.0 / s.increments, 1.0 / s.increments]),
-        "increments": s.increments, "inc_limit": INC_LIMIT,
     }
 
 

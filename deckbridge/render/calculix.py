@@ -40,7 +40,7 @@ from ..outdir import safe_filename
 from . import register
 from ._env import render
 from .inp_cards import (Layout, element_lines, face_lines, id_lines, layout, node_block, real, reals,
-                        spring_groups)
+                        shared_context)
 
 MORTAR_HARD = True           # mortar table pair without *SURFACE BEHAVIOR: hard (Lagrange) contact
 MORTAR_FACTOR = 1.0e4        # K_m = MORTAR_FACTOR * E / h1 [Pa/m]: stop gaps, stick slope, LINEAR variant
@@ -53,33 +53,11 @@ INC_LIMIT = 1000             # *STEP, INC= (upper bound on increments; DIRECT us
 
 def _common(model: Model, lay: Layout, method: str) -> dict:
     mesh = lay.mesh
-    springs = spring_groups(mesh.k_tangent, mesh.table.nodes + 1, lay.next_elem)
     next_elem = lay.next_elem + mesh.table.nodes.size
-    lv = lay.loads
-    s = model.steps
-    step2 = {1: lv["T_force"][0] * s.lambda_max, 2: lv["T_force"][1] * s.lambda_max, 3: lv["N_force"][2],
-             4: lv["M_moment"][0] * s.lambda_max, 5: lv["M_moment"][1] * s.lambda_max}
     return {
+        **shared_context(model, lay, INC_LIMIT),
         "model": model,
         "method": method,
-        "title": model.title,
-        "name": model.name,
-        "skirt_elems": element_lines(np.arange(1, mesh.hexes.shape[0] + 1), mesh.hexes + 1),
-        "ref_node": lay.ref_node,
-        "table_nodes": id_lines(mesh.table.nodes + 1),
-        "stop_nodes": id_lines(mesh.stop.nodes + 1) if mesh.stop is not None else "",
-        "top_faces": face_lines(lay.top_elems, "S2"),
-        "springs": [{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]),
-                     "k_str": real(g["k"])} for g in springs],
-        "E": real(model.material.E), "nu": real(model.material.nu),
-        "kinematic": model.load_introduction == "kinematic",
-        "step1_loads": [(3, real(lv["N_force"][2]))],
-        "step2_loads": [(dof, real(v)) for dof, v in step2.items()],
-        # initial increment, step period, minimum and maximum increment (all equal: fixed increments)
-        "step1_inc": reals([1.0, 1.0, 1.0, 1.0]),
-        "step2_inc": reals([1.0 / s.increments, 1.0, 1.0 / s.increments, 1.0 / s.increments]),
-        "increments": s.increments,
-        "inc_limit": INC_LIMIT,
         "r_n": f"{RESIDUAL_TOL:.0e}", "c_n": f"{CORRECTION_TOL:.0e}", "max_iter": MAX_ITER,
         # I_0, I_R, I_P, I_C, I_L, I_G; blank fields keep ccx's defaults for the adaptive force scales
         "time_controls": f"20, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, 4",

@@ -199,6 +199,35 @@ class InpMesh:
     elements: dict          # element type -> (ids (m,), connectivity (m, k) of node ids)
 
 
+def shared_context(model: Model, lay: "Layout", inc_limit: int) -> dict:
+    """Template values both Abaqus-style dialects share: skirt elements, springs, loads, increments.
+
+    Step 1 applies N at the reference node; step 2 repeats N and adds lambda_max (T, M), as totals.
+    """
+    mesh, lv, s = lay.mesh, lay.loads, model.steps
+    springs = spring_groups(mesh.k_tangent, mesh.table.nodes + 1, lay.next_elem)
+    step2 = {1: lv["T_force"][0] * s.lambda_max, 2: lv["T_force"][1] * s.lambda_max, 3: lv["N_force"][2],
+             4: lv["M_moment"][0] * s.lambda_max, 5: lv["M_moment"][1] * s.lambda_max}
+    return {
+        "title": model.title, "name": model.name,
+        "skirt_elems": element_lines(np.arange(1, mesh.hexes.shape[0] + 1), mesh.hexes + 1),
+        "ref_node": lay.ref_node,
+        "table_nodes": id_lines(mesh.table.nodes + 1),
+        "stop_nodes": id_lines(mesh.stop.nodes + 1) if mesh.stop is not None else "",
+        "top_faces": face_lines(lay.top_elems, "S2"),
+        "springs": [{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]), "k_str": real(g["k"])}
+                    for g in springs],
+        "E": real(model.material.E), "nu": real(model.material.nu),
+        "kinematic": model.load_introduction == "kinematic",
+        "step1_loads": [(3, real(lv["N_force"][2]))],
+        "step2_loads": [(dof, real(v)) for dof, v in step2.items()],
+        # initial increment, step period, minimum and maximum increment (all equal: fixed increments)
+        "step1_inc": reals([1.0, 1.0, 1.0, 1.0]),
+        "step2_inc": reals([1.0 / s.increments, 1.0, 1.0 / s.increments, 1.0 / s.increments]),
+        "increments": s.increments, "inc_limit": inc_limit,
+    }
+
+
 def read_inp_mesh(path) -> InpMesh:
     """Read ``*NODE`` and ``*ELEMENT`` blocks of an Abaqus/CalculiX deck; every other card is skipped.
 
