@@ -57,7 +57,8 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
             job = ccx_dir / deck.name
             shutil.copyfile(deck, job)
             echo(f"ccx: running {job.name}")
-            run = ccx_run.run(job, timeout_s=ccx_timeout_s, progress=None)
+            run = ccx_run.run(job, timeout_s=ccx_timeout_s,
+                              progress=lambda line: line.lower().startswith("increment") and echo(f"  ccx {line}"))
             echo(f"ccx: {job.name} finished in {run.seconds:.1f} s")
             tables.append(read(job.with_suffix(".frd"), fmt="calculix", model=model))
             origins.append(str(job))
