@@ -24,6 +24,11 @@ def node_index(k: np.ndarray | int, i: np.ndarray | int, j: np.ndarray | int, n_
     return (np.asarray(k) * (n_r + 1) + np.asarray(i)) * n_theta + np.mod(j, n_theta)
 
 
+def azimuth_deg(x, y):
+    """Azimuth of points (x, y) in degrees, counter-clockwise from +x, in [0, 360)."""
+    return np.mod(np.degrees(np.arctan2(y, x)), 360.0)
+
+
 def quad_nodal_areas(xyz: np.ndarray) -> np.ndarray:
     """Consistent nodal shares of bilinear quad areas: int N_a dA, shape (nf, 4) [m^2].
 
@@ -101,7 +106,7 @@ class SkirtMesh:
     @cached_property
     def theta_deg(self) -> np.ndarray:
         """Azimuth of every node in [0, 360) degrees."""
-        return np.mod(np.degrees(np.arctan2(self.nodes[:, 1], self.nodes[:, 0])), 360.0)
+        return azimuth_deg(self.nodes[:, 0], self.nodes[:, 1])
 
 
 def build_mesh(model: Model) -> SkirtMesh:
@@ -193,7 +198,7 @@ def _slave_set(surface, nodes, slave_nodes, faces, a_nodes, k_share, k_explicit,
     a = area[slave_nodes]
     kc = kk[slave_nodes] if k_explicit is None else np.full(slave_nodes.size, float(k_explicit))
     xyz = nodes[slave_nodes]
-    th = np.mod(np.degrees(np.arctan2(xyz[:, 1], xyz[:, 0])), 360.0)
+    th = azimuth_deg(xyz[:, 0], xyz[:, 1])
     return SlaveSet(surface=surface, nodes=slave_nodes, theta_deg=th, r=np.hypot(xyz[:, 0], xyz[:, 1]),
                     z=xyz[:, 2], area=a, k=kc, normal=np.asarray(normal, float),
                     clearance=np.asarray(clearance, float))

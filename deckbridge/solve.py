@@ -21,7 +21,7 @@ import pandas as pd
 import reference_solver as rs
 
 from .errors import DeckbridgeError
-from .mesh import SkirtMesh, build_mesh
+from .mesh import SkirtMesh, azimuth_deg, build_mesh
 from .model import Model
 from .outdir import staged
 from .results import conform
@@ -146,13 +146,16 @@ def reactions(p: rs.Problem, sol: rs.Solution, row: int) -> tuple[np.ndarray, np
     return F, M
 
 
+def contact_row_theta(p: rs.Problem, row: int) -> float:
+    """Azimuth [deg, 0..360) of the node of contact row ``row``."""
+    x, y = p.nodes[p.contact_nodes[row], :2]
+    return float(azimuth_deg(x, y))
+
+
 def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol: rs.Solution,
                  df: pd.DataFrame, k_factor: float) -> dict:
     p = system.problem
-    lift_theta = None
-    if sol.liftoff_row is not None:
-        x, y = p.nodes[p.contact_nodes[sol.liftoff_row], :2]
-        lift_theta = float(np.mod(np.degrees(np.arctan2(y, x)), 360.0))
+    lift_theta = None if sol.liftoff_row is None else contact_row_theta(p, sol.liftoff_row)
     ends = {s: int(np.flatnonzero(sol.step == s)[-1]) for s in (1, 2)}
     react = {str(s): reactions(p, sol, i) for s, i in ends.items()}
     g = model.geometry

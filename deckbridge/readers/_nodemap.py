@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
-from ..mesh import build_mesh
+from ..mesh import azimuth_deg, build_mesh
 from ..model import Model
 
 
@@ -30,7 +30,7 @@ def slave_nodes(model: Model) -> pd.DataFrame:
     idx = ids - 1
     xyz = mesh.nodes[idx]
     return pd.DataFrame({
-        "theta_deg": np.mod(np.degrees(np.arctan2(xyz[:, 1], xyz[:, 0])), 360.0),
+        "theta_deg": azimuth_deg(xyz[:, 0], xyz[:, 1]),
         "r": np.hypot(xyz[:, 0], xyz[:, 1]),
         "z": xyz[:, 2],
         "table": in_table[idx],

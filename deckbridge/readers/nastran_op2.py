@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
-from ..mesh import build_mesh
+from ..mesh import azimuth_deg, build_mesh
 from ..model import Model
 from . import register
 
@@ -160,7 +160,7 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
         length = np.linalg.norm(axis)
         horizontal = np.isfinite(length) and length > 0 and abs(axis[2]) < 0.5 * length
         surface = "stop" if (comp == 1 or (comp is None and horizontal)) else "table"
-        th = np.mod(np.degrees(np.arctan2(a[1], a[0])), 360.0) if np.isfinite(a[:2]).all() else np.nan
+        th = azimuth_deg(a[0], a[1]) if np.isfinite(a[:2]).all() else np.nan
         sign = 1.0
         if comp == 1 and np.isfinite(length) and length > 0:
             sign = float(np.sign(-(axis[0] * np.cos(np.radians(th)) + axis[1] * np.sin(np.radians(th))))) or 1.0

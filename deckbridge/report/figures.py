@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
 from ..compare.metrics import zone_intervals
+from ..mesh import azimuth_deg
 from ..compare.result import PointResult
 
 _MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
@@ -94,7 +95,7 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
             xyz, vm = f["vm_xyz"], f["vm"] / 1e6
             rad = np.hypot(xyz[:, 0], xyz[:, 1])
             outer = rad >= np.median(rad)                  # outer half of the wall: one layer in the map
-            th = np.mod(np.degrees(np.arctan2(xyz[outer, 1], xyz[outer, 0])), 360.0)
+            th = azimuth_deg(xyz[outer, 0], xyz[outer, 1])
             zz, vv = xyz[outer, 2], vm[outer]
             seam = th < 1e-6                                # repeat the 0 deg column at 360 deg
             th, zz, vv = np.append(th, th[seam] + 360.0), np.append(zz, zz[seam]), np.append(vv, vv[seam])
@@ -117,7 +118,7 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
             f = fields[lab]
             xyz, u = f["xyz"], f["u"]
             base = np.abs(xyz[:, 2] - xyz[:, 2].min()) < 1e-9 * max(1.0, float(np.ptp(xyz[:, 2])))
-            th = np.round(np.mod(np.degrees(np.arctan2(xyz[base, 1], xyz[base, 0])), 360.0), 6)
+            th = np.round(azimuth_deg(xyz[base, 0], xyz[base, 1]), 6)
             uz = (np.bincount(np.unique(th, return_inverse=True)[1], weights=u[base, 2])
                   / np.bincount(np.unique(th, return_inverse=True)[1]))
             t1 = np.unique(th)

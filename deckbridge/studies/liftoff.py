@@ -12,13 +12,11 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 import reference_solver as rs
 
 from ..errors import DeckbridgeError
 from ..model import Model
-from ..solve import condense_model, penalty_factor
+from ..solve import condense_model, contact_row_theta, penalty_factor
 from .tasks import one_blas_thread
 
 EXPAND = 100.0          # search up to this many times steps.lambda_max
@@ -26,9 +24,7 @@ METHODS = ("penalty", "lagrange")
 
 
 def _theta(system, row: int) -> float:
-    p = system.problem
-    x, y = p.nodes[p.contact_nodes[row], :2]
-    return float(np.mod(np.degrees(np.arctan2(y, x)), 360.0))
+    return contact_row_theta(system.problem, row)
 
 
 def _one(model: Model, system, method: str, tol: float, k_factor: float) -> dict:
