@@ -33,6 +33,8 @@ import pandas as pd
 
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
+from ..numbering.inp import ccx_ground_node_ids
+from ..numbering.skirt import node_ids
 from . import register
 
 SOURCE = "ccx"
@@ -91,7 +93,7 @@ def _slaves_from_model(model) -> Slaves:
     mesh = build_mesh(model)
     sets = [s for s in (mesh.table, mesh.stop) if s is not None]
     cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
-    return Slaves(node=cat(lambda s: s.nodes + 1), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
+    return Slaves(node=cat(lambda s: node_ids(s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
                   theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),
                   area=cat(lambda s: s.area), normal=np.vstack([s.normal for s in sets]),
                   clearance=cat(lambda s: s.clearance))
@@ -325,8 +327,7 @@ def _ground_nodes(stem: Path, sl: Slaves, rows: np.ndarray, gaps: dict, method: 
     if not gaps:
         if model is None:
             raise DeckbridgeError(f"{str(stem)!r}: gap elements unknown (no deck beside the results, no model)")
-        from ..render.calculix import ground_node_ids
-        gaps = ground_node_ids(model, method)
+        gaps = ccx_ground_node_ids(model, build_mesh(model), method)
     for i in np.flatnonzero(rows):
         g = gaps.get((int(sl.node[i]), str(sl.surface[i])))
         if g is None:

@@ -27,7 +27,9 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
+from ..mesh import build_mesh
 from ..model import Model
+from ..numbering.nastran import gap_layout
 from . import register
 from .nastran_op2 import contact_map
 
@@ -86,8 +88,6 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     m = cmap.loc[raw["element"].to_numpy()]
     force_on_normal = m["dof_sign"].to_numpy() * raw["force_n"].to_numpy()   # > 0 pushes the skirt off the master
     if model is not None:
-        from ..mesh import build_mesh
-        from ..render.nastran_cards import gap_layout
         lay = gap_layout(build_mesh(model))
         k = pd.Series(lay.k, index=lay.eid).loc[raw["element"].to_numpy()].to_numpy()
         gap = -force_on_normal / k

@@ -2,7 +2,7 @@
 
 Contact: node-based slave surfaces ``*SURFACE, TYPE=NODE`` (table: every base node; stop: the base nodes
 on the stop-side wall face) with each node's tributary area on its data line, so that CPRESS is a
-pressure. Masters are element-based surfaces of fixed C3D8 rings (see :mod:`.inp_cards`): Abaqus accepts
+pressure. Masters are element-based surfaces of fixed C3D8 rings (see :mod:`deckbridge.numbering.inp`): Abaqus accepts
 them as master surfaces without a rigid-body definition, and the same geometry serves the CalculiX
 mortar deck. ``*CONTACT PAIR, TYPE=NODE TO SURFACE`` per pair, ``*SURFACE BEHAVIOR,
 PRESSURE-OVERCLOSURE=HARD, DIRECT`` (Lagrange multipliers, written explicitly: the enforcement default
@@ -24,10 +24,11 @@ import numpy as np
 
 from ..mesh import SkirtMesh
 from ..model import Model
+from ..numbering.inp import layout
 from ..outdir import safe_filename
 from . import register
 from ._env import render
-from .inp_cards import element_lines, face_lines, layout, node_block, real, shared_context
+from .inp_cards import element_lines, face_lines, node_block, real, shared_context
 
 INC_LIMIT = 1000   # *STEP, INC= (upper bound; DIRECT takes exactly the given increments)
 
