@@ -31,13 +31,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from ..numbering.inp import ccx_ground_node_ids
 from ..numbering.skirt import node_ids
-from . import register
+from ._registry import register
 
-SOURCE = "ccx"
+SOURCE = DIALECTS["calculix"].source   # "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
 _META_JOB = "** deckbridge-job"

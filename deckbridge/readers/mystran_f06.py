@@ -26,11 +26,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from ..model import Model
 from ..numbering.nastran import gap_layout
-from . import register
+from ._registry import register
 from .nastran_op2 import contact_map
 
 _HEADER = re.compile(r"F O R\s+E L E M E N T\s+T Y P E\s+E L A S 2\b")
@@ -96,7 +97,7 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
         gap = np.full(len(raw), np.nan)
         lam = np.nan
     return pd.DataFrame({
-        "source": "mystran", "method": "linear", "step": 2, "increment": 1, "load_factor": lam,
+        "source": DIALECTS["mystran"].source, "method": "linear", "step": 2, "increment": 1, "load_factor": lam,
         "node": m["node"].to_numpy(np.int64), "surface": m["surface"].to_numpy(),
         "theta_deg": m["theta_deg"].to_numpy(), "z": m["z"].to_numpy(), "r": m["r"].to_numpy(),
         "sigma_n_pa": -force_on_normal / m["area"].to_numpy(), "gap_m": gap, "status": "closed",

@@ -32,11 +32,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import azimuth_deg, build_mesh
 from ..model import Model
 from ..numbering.nastran import gap_layout
-from . import register
+from ._registry import register
 
 GAP_FORCE_COLUMNS = ["element", "subcase", "increment", "time", "table", "force_n", "axial_u_m",
                      "u0_m", "opening_m", "status"]
@@ -241,4 +242,4 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     raw = raw[raw["table"] == ("OEF1X" if "OEF1X" in tables else "OESNLXR")]
     cmap = contact_map(path, model)
     lam = model.steps.lambda_max if model is not None else 1.0
-    return tidy(raw, cmap, path, "nastran", "penalty", lam)
+    return tidy(raw, cmap, path, DIALECTS["nastran"].source, "penalty", lam)

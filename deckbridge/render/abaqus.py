@@ -23,10 +23,10 @@ from pathlib import Path
 import numpy as np
 
 from ..mesh import SkirtMesh
+from ..dialects import DIALECTS
 from ..model import Model
 from ..numbering.inp import layout
 from ..outdir import safe_filename
-from . import register
 from ._env import render
 from .inp_cards import element_lines, face_lines, node_block, real, shared_context
 
@@ -58,10 +58,10 @@ def _node_surface(ss) -> str:
 
 
 def deck_name(model: Model) -> str:
-    return safe_filename(f"{model.name}_lagrange.inp")
+    (name,) = DIALECTS["abaqus"].deck_names(model.name)
+    return safe_filename(name)
 
 
-@register("abaqus")
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the Abaqus/Standard Lagrange deck into ``outdir``."""
     p = Path(outdir) / deck_name(model)

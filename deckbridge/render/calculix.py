@@ -33,12 +33,12 @@ from pathlib import Path
 
 import numpy as np
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.inp import GapIds, Layout, ccx_gaps, ccx_layout
 from ..outdir import safe_filename
-from . import register
 from ._env import render
 from .inp_cards import element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
@@ -140,11 +140,10 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
 
 def deck_names(model: Model) -> dict[str, str]:
     """File names of the two CalculiX decks (method -> file name)."""
-    return {"penalty": safe_filename(f"{model.name}_ccx_penalty.inp"),
-            "mortar": safe_filename(f"{model.name}_ccx_lagrange.inp")}
+    penalty, mortar = DIALECTS["calculix"].deck_names(model.name)
+    return {"penalty": safe_filename(penalty), "mortar": safe_filename(mortar)}
 
 
-@register("calculix")
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the CalculiX penalty (GAPUNI) and mortar decks into ``outdir``."""
     names = deck_names(model)

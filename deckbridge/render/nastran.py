@@ -8,11 +8,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..dialects import DIALECTS
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..outdir import safe_filename, write_text
 from . import nastran_cards as nc
-from . import register
 from ._env import render
 
 
@@ -37,9 +37,9 @@ def deck_text(model: Model, mesh: SkirtMesh) -> str:
     )
 
 
-@register("nastran")
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write ``<name>_penalty.bdf`` into ``outdir``."""
-    path = Path(outdir) / safe_filename(f"{model.name}_penalty.bdf")
+    (name,) = DIALECTS["nastran"].deck_names(model.name)
+    path = Path(outdir) / safe_filename(name)
     write_text(path, deck_text(model, mesh))
     return [path]
