@@ -30,6 +30,7 @@ import pandas as pd
 
 from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
+from ._files import read_text
 from ._registry import register
 from ._nodemap import locate, surface_of
 
@@ -151,11 +152,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
     from ..model import load
 
     path = Path(path)
-    try:
-        text = path.read_text(errors="replace")
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
-    raw = parse(text, path)
+    raw = parse(read_text(path), path)
     if raw.empty:
         raise DeckbridgeError(f"{str(path)!r}: no contact data (no CONTACT OUTPUT table with CPRESS)")
     bad = sorted(set(raw["step"]) - {1, 2})

@@ -36,6 +36,7 @@ from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from ..numbering.inp import ccx_ground_node_ids
 from ..numbering.skirt import node_ids
+from ._files import read_text
 from ._registry import register
 
 SOURCE = DIALECTS["calculix"].source   # "ccx"
@@ -107,10 +108,7 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
     gaps: dict[tuple[int, str], int] = {}
     if not inp.is_file():
         return job, None, gaps
-    try:
-        lines = inp.read_text(errors="replace").splitlines()
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(inp)!r}: cannot read ({exc.strerror})") from None
+    lines = read_text(inp).splitlines()
     in_gap = False
     for line in lines:
         if line.startswith(_META_JOB):
@@ -139,12 +137,8 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
 # --- ccx files ----------------------------------------------------------------------------------------
 def _dat_blocks(path: Path) -> list[dict]:
     """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}."""
-    try:
-        text = path.read_text(errors="replace")
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
     blocks, cur = [], None
-    for line in text.splitlines():
+    for line in read_text(path).splitlines():
         m = _DAT_HEAD.match(line)
         if m:
             cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {}}

@@ -31,6 +31,7 @@ from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from ..model import Model
 from ..numbering.nastran import gap_layout
+from ._files import read_text
 from ._registry import register
 from .nastran_op2 import contact_map
 
@@ -43,10 +44,7 @@ _ROW = re.compile(r"^\s*(\d+\s+[-+]?\d*\.?\d+(?:[EeDd][-+]?\d+)?\s*)+$")
 def read_spring_forces(path: str | Path) -> pd.DataFrame:
     """ELAS2 element forces of a MYSTRAN F06: columns subcase, element, force_n (as printed)."""
     path = Path(path)
-    try:
-        lines = path.read_text(errors="replace").splitlines()
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
+    lines = read_text(path).splitlines()
     rows: list[tuple[int, int, float]] = []
     subcase, i = 1, 0
     while i < len(lines):

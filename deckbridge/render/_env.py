@@ -13,8 +13,12 @@ import re
 from functools import lru_cache
 from importlib.resources import files
 from importlib.resources.abc import Traversable
+from pathlib import Path
 
 import jinja2
+
+from ..dialects import DIALECTS
+from ..outdir import safe_filename
 
 TEMPLATE_PACKAGE = "deckbridge.templates"
 
@@ -57,3 +61,8 @@ def environment(dialect: str) -> jinja2.Environment:
 
 def render(dialect: str, template: str, **context) -> str:
     return environment(dialect).get_template(template).render(**context)
+
+
+def deck_paths(dialect: str, model_name: str, outdir: str | Path) -> list[Path]:
+    """Paths in ``outdir`` of the decks of ``dialect`` for the model ``model_name`` (names checked)."""
+    return [Path(outdir) / safe_filename(n) for n in DIALECTS[dialect].deck_names(model_name)]

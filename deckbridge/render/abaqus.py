@@ -23,11 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from ..mesh import SkirtMesh
-from ..dialects import DIALECTS
 from ..model import Model
 from ..numbering.inp import layout
-from ..outdir import safe_filename
-from ._env import render
+from ._env import deck_paths, render
 from .inp_cards import element_lines, face_lines, node_block, real, shared_context
 
 INC_LIMIT = 1000   # *STEP, INC= (upper bound; DIRECT takes exactly the given increments)
@@ -57,13 +55,8 @@ def _node_surface(ss) -> str:
     return "\n".join(f"{int(n) + 1}, {real(a)}" for n, a in zip(ss.nodes, ss.area))
 
 
-def deck_name(model: Model) -> str:
-    (name,) = DIALECTS["abaqus"].deck_names(model.name)
-    return safe_filename(name)
-
-
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the Abaqus/Standard Lagrange deck into ``outdir``."""
-    p = Path(outdir) / deck_name(model)
+    (p,) = deck_paths("abaqus", model.name, outdir)
     p.write_text(render("abaqus", "lagrange.inp.j2", **context(model, mesh)))
     return [p]

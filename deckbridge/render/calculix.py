@@ -33,13 +33,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.inp import GapIds, Layout, ccx_gaps, ccx_layout
-from ..outdir import safe_filename
-from ._env import render
+from ._env import deck_paths, render
 from .inp_cards import element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
 MORTAR_HARD = True           # mortar table pair without *SURFACE BEHAVIOR: hard (Lagrange) contact
@@ -138,20 +136,14 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
     return ctx
 
 
-def deck_names(model: Model) -> dict[str, str]:
-    """File names of the two CalculiX decks (method -> file name)."""
-    penalty, mortar = DIALECTS["calculix"].deck_names(model.name)
-    return {"penalty": safe_filename(penalty), "mortar": safe_filename(mortar)}
-
-
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the CalculiX penalty (GAPUNI) and mortar decks into ``outdir``."""
-    names = deck_names(model)
+    paths = dict(zip(("penalty", "mortar"), deck_paths("calculix", model.name, outdir)))
     out = []
     for method, ctx_fn, tpl in (("penalty", penalty_context, "penalty.inp.j2"),
                                 ("mortar", mortar_context, "mortar.inp.j2")):
         text = render("calculix", tpl, **ctx_fn(model, mesh))
-        p = Path(outdir) / names[method]
+        p = paths[method]
         p.write_text(text)
         out.append(p)
     return out

@@ -46,6 +46,20 @@ def _f(x) -> float:
     return float(x)
 
 
+def model_context(model: Model, mesh: SkirtMesh) -> dict:
+    """Template values both Nastran-family decks share: skirt, reference and grounded grids, material,
+    coupling and loads; ``n_contacts`` = number of contact elements (CGAP or CELAS2)."""
+    lay = gap_layout(mesh)
+    return {
+        "name": model.name, "title": model.title, "lambda_max": f"{model.steps.lambda_max:g}",
+        "spc_sid": SPC_SID, "cid_cyl": CID_CYL, "cord": [cord2c_card()], "material": material_cards(model),
+        "grids": grid_cards(mesh), "n_grids": mesh.n_nodes, "ref_grid": reference_grid_card(mesh),
+        "hexas": hexa_cards(mesh), "n_hexa": mesh.hexes.shape[0],
+        "ground_grids": ground_grid_cards(mesh), "spcs": spc_ground_cards(lay.ground), "n_contacts": len(lay),
+        "coupling": coupling_cards(mesh, model), "loads": load_cards(mesh, model),
+    }
+
+
 # --- model cards ---------------------------------------------------------------------------------
 def grid_cards(mesh: SkirtMesh) -> list[str]:
     """Skirt GRIDs in the basic system; base (table) nodes get CD = the cylindrical system."""
