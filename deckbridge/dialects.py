@@ -3,7 +3,8 @@
 A leaf module (imports nothing of deckbridge): renderers and runners are named as ``"module:attr"``
 strings and imported on use, so registering a dialect never imports it. Adding a dialect is one
 ``templates/<name>/`` folder, one renderer module, one reader module ``deckbridge.readers.<reader>``
-and one :class:`Dialect` line in :data:`DIALECTS` (see ARCHITECTURE.md).
+and one :class:`Dialect` line in :data:`DIALECTS` (its reader module registers itself with
+:func:`deckbridge.readers._registry.register` under the format name).
 
 Names: the dialect name (``calculix``) is what a user types (``decks --dialect``, ``compare --format``
 of its reader) and the template folder. ``ccx`` is the CalculiX *program*: the runner, the

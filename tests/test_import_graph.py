@@ -132,3 +132,8 @@ def test_reference_solver_imports_nothing_from_deckbridge():
 @pytest.mark.parametrize("leaf", ["deckbridge.dialects", "deckbridge.readers._registry"])
 def test_registries_are_leaves(leaf):
     assert sorted(b for a, b in edges() if a == leaf) == []
+
+
+@pytest.mark.parametrize("pkg", ["deckbridge.render", "deckbridge.readers"])
+def test_registered_modules_do_not_import_their_package_back(pkg):
+    assert sorted(a for a, b in edges() if b == pkg and a.startswith(pkg + ".")) == []
