@@ -91,10 +91,10 @@ def case_factor(nt, nz, nr) -> dict:
 
 def case_ccx(nt, nz, nr, increments) -> dict:
     """CalculiX on the deckbridge ccx penalty deck (renderer 'calculix'), if both are available."""
-    from deckbridge.render import RENDERERS, _load_all, render_all
-    _load_all()
+    from deckbridge.dialects import DIALECTS
+    from deckbridge.render import render_all
     ccx = shutil.which("ccx")
-    if "calculix" not in RENDERERS or ccx is None:
+    if "calculix" not in DIALECTS or ccx is None:
         return {"skipped": "no 'calculix' renderer or no ccx binary"}
     model = _model(nt, nz, nr, increments)
     with tempfile.TemporaryDirectory(prefix="bench-ccx-") as d:

@@ -50,17 +50,19 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
         summaries[method] = summary
 
     if with_ccx:
-        from .external import ccx_run
+        from .dialects import DIALECTS
         from .readers import read
+        calculix = DIALECTS["calculix"]      # its decks, its runner (ccx), its reader
+        runner = calculix.run_module()
         ccx_dir = prepare(out / "ccx")
-        for deck in sorted((out / "decks").glob(f"{model.name}_ccx_*.inp")):
+        for deck in calculix.decks_in(out / "decks", model.name):
             job = ccx_dir / deck.name
             shutil.copyfile(deck, job)
             echo(f"ccx: running {job.name}")
-            run = ccx_run.run(job, timeout_s=ccx_timeout_s,
-                              progress=lambda line: line.lower().startswith("increment") and echo(f"  ccx {line}"))
+            run = runner.run(job, timeout_s=ccx_timeout_s,
+                             progress=lambda line: line.lower().startswith("increment") and echo(f"  ccx {line}"))
             echo(f"ccx: {job.name} finished in {run.seconds:.1f} s")
-            tables.append(read(job.with_suffix(".frd"), fmt="calculix", model=model))
+            tables.append(read(job.with_suffix(".frd"), fmt=calculix.reader, model=model))
             origins.append(str(job))
 
     result = compare_tables(tables, origins=origins)

@@ -261,3 +261,16 @@ def test_hard_mortar_matches_its_stiff_linear_regularisation(small_job, tmp_path
     assert soft.loc[tb, "gap_m"].min() < -1e-9                     # the linear slope lets nodes sink a little
     full = tb & (hard["step"] == 1).to_numpy()                     # weak (mortar) enforcement: nodal gaps are
     assert np.abs(hard.loc[full, "gap_m"]).max() < 1e-12           # exactly 0 only in full contact
+
+
+@pytest.mark.parametrize("overrides", [SMALL, SMALL + ["contact.stop.side=outer"], SMALL + ["contact.stop.side=none"]])
+def test_numbering_layer_gives_the_gap_ids_written_in_the_decks(overrides, tmp_path):
+    """The reader's ids without a deck (numbering layer) are those of the GAPUNI lines the renderer wrote."""
+    from deckbridge.numbering.inp import ccx_ground_node_ids
+    model = load(None, overrides)
+    mesh = build_mesh(model)
+    for method, path in zip(("penalty", "mortar"), calculix.write(model, mesh, tmp_path)):
+        _, _, from_deck = reader._read_meta(path)
+        assert ccx_ground_node_ids(model, mesh, method) == from_deck
+        assert len(from_deck) == (mesh.table.nodes.size if method == "penalty" else 0) + \
+            (0 if mesh.stop is None else mesh.stop.nodes.size)

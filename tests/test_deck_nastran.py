@@ -14,7 +14,7 @@ from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.render import render_all
 from deckbridge.render.nastran import write
-from deckbridge.render.nastran_cards import numbering
+from deckbridge.numbering.nastran import numbering
 
 N_T, N_Z, N_R, NINC = 24, 6, 1, 7
 OVERRIDES = [f"mesh.n_theta={N_T}", f"mesh.n_z={N_Z}", f"mesh.n_r={N_R}", f"steps.increments={NINC}",

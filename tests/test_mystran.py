@@ -15,7 +15,7 @@ from deckbridge.model import load
 from deckbridge.readers import detect, read
 from deckbridge.readers.mystran_f06 import read_spring_forces
 from deckbridge.render.mystran import write
-from deckbridge.render.nastran_cards import gap_layout, numbering
+from deckbridge.numbering.nastran import gap_layout, numbering
 
 pytestmark = pytest.mark.mystran
 

@@ -116,7 +116,7 @@ def test_tidy_with_model_areas_and_load_factors():
     import pandas as pd
 
     from deckbridge.readers.nastran_op2 import tidy
-    from deckbridge.render.nastran_cards import gap_layout
+    from deckbridge.numbering.nastran import gap_layout
 
     model = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "steps.lambda_max=1.6"])
     lay = gap_layout(build_mesh(model))

@@ -9,7 +9,7 @@ import click
 from ..compare import compare_tables
 from ..errors import DeckbridgeError
 from ..model import load
-from ..readers import detect, read
+from ..readers import detect, formats, read
 from ..report import write_report
 from ._common import main
 
@@ -26,7 +26,7 @@ from ._common import main
               help="Compare at load factor L (repeatable) instead of the defaults: end of step 1, first liftoff, "
                    "end of step 2.")
 @click.option("--format", "formats", multiple=True, metavar="F",
-              help="Format of the sources (one for all, or one per source); default: detected.")
+              help=f"Format of the sources ({', '.join(formats())}; one for all, or one per source); default: detected.")
 @click.option("--surface", type=click.Choice(["table", "stop"]), default="table", show_default=True,
               help="Contact surface whose sigma_N is compared.")
 def compare_cmd(sources, outdir, model_path, overrides, load_factors, formats, surface):

@@ -2,6 +2,7 @@
 
 import click
 
+from ..dialects import names
 from ..render import render_all
 from ._common import main, model_options
 
@@ -11,8 +12,8 @@ from ._common import main, model_options
 @click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
               help="Output folder (created; files appear whole or not at all).")
 @click.option("--dialect", "dialects", multiple=True,
-              help="Only these dialects (nastran, mystran, abaqus, calculix); default all.")
+              help=f"Only these dialects ({', '.join(names())}); default all.")
 def decks_cmd(model, outdir, dialects):
-    """Write the Nastran penalty, Abaqus Lagrange, CalculiX and MYSTRAN decks of MODEL."""
+    """Write the solver decks of MODEL (every dialect of deckbridge.dialects, or those of --dialect)."""
     for path in render_all(model, outdir, list(dialects) or None):
         click.echo(f"wrote {path}")

@@ -1,44 +1,36 @@
 """Readers of contact results into the one tidy table of :mod:`deckbridge.results`.
 
-Each reader module registers ``read(path, model=None) -> DataFrame`` under a format name with a
-``detect(path) -> bool`` function. :func:`read` picks the format (or takes ``fmt``) and conforms the
-table to the schema. Readers raise :class:`deckbridge.errors.DeckbridgeError` with a one-line message
-naming the file when it cannot be read.
+Formats: the reader of each dialect of :mod:`deckbridge.dialects` plus :data:`OTHER_FORMATS`; format
+``f`` is the module ``deckbridge.readers.f``, which registers itself in :mod:`._registry` when
+imported. :func:`read` picks the format (or takes ``fmt``) and conforms the table to the schema.
+Readers raise :class:`deckbridge.errors.DeckbridgeError` with a one-line message naming the file
+when it cannot be read.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import importlib
 from pathlib import Path
-from typing import Callable
 
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..results import conform
+from ._registry import READERS
+
+OTHER_FORMATS = ("plain_csv", "reference")   # readers of no deck dialect
 
 
-@dataclass(frozen=True)
-class Reader:
-    name: str
-    read: Callable[..., pd.DataFrame]
-    detect: Callable[[Path], bool]
-
-
-READERS: dict[str, Reader] = {}
-
-
-def register(name: str, detect: Callable[[Path], bool]):
-    """Decorator: register ``read(path, model=None)`` under ``name``."""
-    def deco(func):
-        READERS[name] = Reader(name, func, detect)
-        return func
-    return deco
+def formats() -> list[str]:
+    """Every format name, sorted (without importing the readers)."""
+    return sorted({d.reader for d in DIALECTS.values()} | set(OTHER_FORMATS))
 
 
 def _load_all() -> None:
-    """Import every reader module (importing one registers it)."""
-    from . import abaqus_dat, calculix, mystran_f06, nastran_op2, plain_csv, reference  # noqa: F401
+    """Import every reader module, in format-name order (importing one registers it)."""
+    for name in formats():
+        importlib.import_module(f"{__name__}.{name}")
 
 
 def detect(path: str | Path) -> str:

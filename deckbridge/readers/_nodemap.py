@@ -1,7 +1,7 @@
 """Deck node ids -> azimuth, radius, height and contact surface, through the neutral model.
 
 Shared by readers whose files name nodes but carry no coordinates (Abaqus .dat, plain CSV).
-Deck node id = mesh index + 1 (see :mod:`deckbridge.mesh`).
+Deck node ids are the skirt ids of :mod:`deckbridge.numbering.skirt` (mesh index + 1).
 """
 
 from __future__ import annotations
@@ -14,20 +14,21 @@ import pandas as pd
 from ..errors import DeckbridgeError
 from ..mesh import azimuth_deg, build_mesh
 from ..model import Model
+from ..numbering.skirt import node_ids, node_index
 
 
 @lru_cache(maxsize=8)
 def slave_nodes(model: Model) -> pd.DataFrame:
     """Slave nodes of ``model``: index = deck node id; columns theta_deg, r, z, table, stop (bool)."""
     mesh = build_mesh(model)
-    ids = mesh.table.nodes + 1
+    ids = node_ids(mesh.table.nodes)
     in_stop = np.zeros(mesh.n_nodes, bool)
     if mesh.stop is not None:
         in_stop[mesh.stop.nodes] = True
-        ids = np.union1d(ids, mesh.stop.nodes + 1)
+        ids = np.union1d(ids, node_ids(mesh.stop.nodes))
     in_table = np.zeros(mesh.n_nodes, bool)
     in_table[mesh.table.nodes] = True
-    idx = ids - 1
+    idx = node_index(ids)
     xyz = mesh.nodes[idx]
     return pd.DataFrame({
         "theta_deg": azimuth_deg(xyz[:, 0], xyz[:, 1]),

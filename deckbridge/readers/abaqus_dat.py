@@ -28,8 +28,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
-from . import register
+from ._files import read_text
+from ._registry import register
 from ._nodemap import locate, surface_of
 
 _NUM = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[EeDd][-+]?\d+)?"
@@ -150,11 +152,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
     from ..model import load
 
     path = Path(path)
-    try:
-        text = path.read_text(errors="replace")
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
-    raw = parse(text, path)
+    raw = parse(read_text(path), path)
     if raw.empty:
         raise DeckbridgeError(f"{str(path)!r}: no contact data (no CONTACT OUTPUT table with CPRESS)")
     bad = sorted(set(raw["step"]) - {1, 2})
@@ -169,7 +167,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
                        np.where(np.isnan(copen), cpress <= 0.0, (copen > 0.0) & (cpress <= 0.0)))
     lam = np.where(raw["step"].to_numpy() == 1, 0.0, model.steps.lambda_max * raw["fraction"].to_numpy(float))
     return pd.DataFrame({
-        "source": "abaqus", "method": "lagrange",
+        "source": DIALECTS["abaqus"].source, "method": "lagrange",
         "step": raw["step"].to_numpy(), "increment": raw["increment"].to_numpy(),
         "load_factor": lam, "node": raw["node"].to_numpy(),
         "surface": _surface(raw, located),

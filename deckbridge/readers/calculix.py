@@ -31,11 +31,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
-from . import register
+from ..numbering.inp import ccx_ground_node_ids
+from ..numbering.skirt import node_ids
+from ._files import read_text
+from ._registry import register
 
-SOURCE = "ccx"
+SOURCE = DIALECTS["calculix"].source   # "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
 _META_JOB = "** deckbridge-job"
@@ -91,7 +95,7 @@ def _slaves_from_model(model) -> Slaves:
     mesh = build_mesh(model)
     sets = [s for s in (mesh.table, mesh.stop) if s is not None]
     cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
-    return Slaves(node=cat(lambda s: s.nodes + 1), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
+    return Slaves(node=cat(lambda s: node_ids(s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
                   theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),
                   area=cat(lambda s: s.area), normal=np.vstack([s.normal for s in sets]),
                   clearance=cat(lambda s: s.clearance))
@@ -104,10 +108,7 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
     gaps: dict[tuple[int, str], int] = {}
     if not inp.is_file():
         return job, None, gaps
-    try:
-        lines = inp.read_text(errors="replace").splitlines()
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(inp)!r}: cannot read ({exc.strerror})") from None
+    lines = read_text(inp).splitlines()
     in_gap = False
     for line in lines:
         if line.startswith(_META_JOB):
@@ -136,12 +137,8 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
 # --- ccx files ----------------------------------------------------------------------------------------
 def _dat_blocks(path: Path) -> list[dict]:
     """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}."""
-    try:
-        text = path.read_text(errors="replace")
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
     blocks, cur = [], None
-    for line in text.splitlines():
+    for line in read_text(path).splitlines():
         m = _DAT_HEAD.match(line)
         if m:
             cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {}}
@@ -325,8 +322,7 @@ def _ground_nodes(stem: Path, sl: Slaves, rows: np.ndarray, gaps: dict, method: 
     if not gaps:
         if model is None:
             raise DeckbridgeError(f"{str(stem)!r}: gap elements unknown (no deck beside the results, no model)")
-        from ..render.calculix import ground_node_ids
-        gaps = ground_node_ids(model, method)
+        gaps = ccx_ground_node_ids(model, build_mesh(model), method)
     for i in np.flatnonzero(rows):
         g = gaps.get((int(sl.node[i]), str(sl.surface[i])))
         if g is None:

@@ -26,9 +26,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
+from ..mesh import build_mesh
 from ..model import Model
-from . import register
+from ..numbering.nastran import gap_layout
+from ._files import read_text
+from ._registry import register
 from .nastran_op2 import contact_map
 
 _HEADER = re.compile(r"F O R\s+E L E M E N T\s+T Y P E\s+E L A S 2\b")
@@ -40,10 +44,7 @@ _ROW = re.compile(r"^\s*(\d+\s+[-+]?\d*\.?\d+(?:[EeDd][-+]?\d+)?\s*)+$")
 def read_spring_forces(path: str | Path) -> pd.DataFrame:
     """ELAS2 element forces of a MYSTRAN F06: columns subcase, element, force_n (as printed)."""
     path = Path(path)
-    try:
-        lines = path.read_text(errors="replace").splitlines()
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
+    lines = read_text(path).splitlines()
     rows: list[tuple[int, int, float]] = []
     subcase, i = 1, 0
     while i < len(lines):
@@ -86,8 +87,6 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     m = cmap.loc[raw["element"].to_numpy()]
     force_on_normal = m["dof_sign"].to_numpy() * raw["force_n"].to_numpy()   # > 0 pushes the skirt off the master
     if model is not None:
-        from ..mesh import build_mesh
-        from ..render.nastran_cards import gap_layout
         lay = gap_layout(build_mesh(model))
         k = pd.Series(lay.k, index=lay.eid).loc[raw["element"].to_numpy()].to_numpy()
         gap = -force_on_normal / k
@@ -96,7 +95,7 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
         gap = np.full(len(raw), np.nan)
         lam = np.nan
     return pd.DataFrame({
-        "source": "mystran", "method": "linear", "step": 2, "increment": 1, "load_factor": lam,
+        "source": DIALECTS["mystran"].source, "method": "linear", "step": 2, "increment": 1, "load_factor": lam,
         "node": m["node"].to_numpy(np.int64), "surface": m["surface"].to_numpy(),
         "theta_deg": m["theta_deg"].to_numpy(), "z": m["z"].to_numpy(), "r": m["r"].to_numpy(),
         "sigma_n_pa": -force_on_normal / m["area"].to_numpy(), "gap_m": gap, "status": "closed",

@@ -14,7 +14,7 @@ u = 1.1494e-4 and fx = 33333.33 = u * KA; gap 102 open with u = -0.5443; cc188b'
 In the tidy table sigma_n_pa = -force / tributary area of the gap's slave node (< 0 compression),
 gap_m = U0 - u (> 0 open), status = closed when gap_m <= 0. Element ids map to slave nodes:
 
-- with ``model`` (a deck written by deckbridge): through :func:`deckbridge.render.nastran_cards.gap_layout`,
+- with ``model`` (a deck written by deckbridge): through :func:`deckbridge.numbering.nastran.gap_layout`,
   areas and U0 from the mesh, load_factor = lambda_max times the fraction of subcase 2 done;
 - without it: through the deck with the same stem beside the OP2 (.bdf/.dat/.nas): GA grid,
   its basic position (CP = 0 only, else NaN), U0 from the PGAP, surface 'stop' when the GA->GB
@@ -32,10 +32,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import azimuth_deg, build_mesh
 from ..model import Model
-from . import register
+from ..numbering.nastran import gap_layout
+from ._registry import register
 
 GAP_FORCE_COLUMNS = ["element", "subcase", "increment", "time", "table", "force_n", "axial_u_m",
                      "u0_m", "opening_m", "status"]
@@ -105,7 +107,6 @@ def model_contact_map(model: Model) -> pd.DataFrame:
     DOF direction: +1 for table springs on z and an inner stop's springs on +r, -1 for an outer
     stop).
     """
-    from ..render.nastran_cards import gap_layout
     mesh = build_mesh(model)
     lay = gap_layout(mesh)
     t = np.radians(lay.theta_deg)
@@ -241,4 +242,4 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     raw = raw[raw["table"] == ("OEF1X" if "OEF1X" in tables else "OESNLXR")]
     cmap = contact_map(path, model)
     lam = model.steps.lambda_max if model is not None else 1.0
-    return tidy(raw, cmap, path, "nastran", "penalty", lam)
+    return tidy(raw, cmap, path, DIALECTS["nastran"].source, "penalty", lam)

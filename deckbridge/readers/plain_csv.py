@@ -25,7 +25,7 @@ import pandas as pd
 
 from ..errors import DeckbridgeError
 from ..results import COLUMNS
-from . import register
+from ._registry import register
 from ._nodemap import locate, surface_of
 
 _STRESS_UNITS = {"pa": 1.0, "n/m2": 1.0, "n/m^2": 1.0, "kpa": 1e3, "mpa": 1e6, "n/mm2": 1e6, "n/mm^2": 1e6,

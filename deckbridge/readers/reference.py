@@ -15,7 +15,7 @@ import pandas as pd
 
 from ..errors import DeckbridgeError
 from ..results import COLUMNS, ResultsError, conform
-from . import register
+from ._registry import register
 from ._nodemap import locate
 
 THETA_TOL_DEG = 1e-3

@@ -2,7 +2,7 @@
 
 Contact: node-based slave surfaces ``*SURFACE, TYPE=NODE`` (table: every base node; stop: the base nodes
 on the stop-side wall face) with each node's tributary area on its data line, so that CPRESS is a
-pressure. Masters are element-based surfaces of fixed C3D8 rings (see :mod:`.inp_cards`): Abaqus accepts
+pressure. Masters are element-based surfaces of fixed C3D8 rings (see :mod:`deckbridge.numbering.inp`): Abaqus accepts
 them as master surfaces without a rigid-body definition, and the same geometry serves the CalculiX
 mortar deck. ``*CONTACT PAIR, TYPE=NODE TO SURFACE`` per pair, ``*SURFACE BEHAVIOR,
 PRESSURE-OVERCLOSURE=HARD, DIRECT`` (Lagrange multipliers, written explicitly: the enforcement default
@@ -24,10 +24,9 @@ import numpy as np
 
 from ..mesh import SkirtMesh
 from ..model import Model
-from ..outdir import safe_filename
-from . import register
-from ._env import render
-from .inp_cards import element_lines, face_lines, layout, node_block, real, shared_context
+from ..numbering.inp import layout
+from ._env import deck_paths, render
+from .inp_cards import element_lines, face_lines, node_block, real, shared_context
 
 INC_LIMIT = 1000   # *STEP, INC= (upper bound; DIRECT takes exactly the given increments)
 
@@ -56,13 +55,8 @@ def _node_surface(ss) -> str:
     return "\n".join(f"{int(n) + 1}, {real(a)}" for n, a in zip(ss.nodes, ss.area))
 
 
-def deck_name(model: Model) -> str:
-    return safe_filename(f"{model.name}_lagrange.inp")
-
-
-@register("abaqus")
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the Abaqus/Standard Lagrange deck into ``outdir``."""
-    p = Path(outdir) / deck_name(model)
+    (p,) = deck_paths("abaqus", model.name, outdir)
     p.write_text(render("abaqus", "lagrange.inp.j2", **context(model, mesh)))
     return [p]

@@ -8,7 +8,7 @@ would be a hidden number). GAPUNI needs ``NLGEOM`` in 2.20 (without it reactions
 GAPUNI gaps are frictionless: a model with contact.friction > 0 is refused for this deck.
 
 Lagrange-type: ``*CONTACT PAIR, TYPE=MORTAR`` (dual shape functions) between the skirt's first-row base
-faces (slave) and the top faces of a fixed C3D8 ring (master, see :mod:`.inp_cards`). With
+faces (slave) and the top faces of a fixed C3D8 ring (master, see :mod:`deckbridge.numbering.inp`). With
 MORTAR_HARD (default) the interaction has no ``*SURFACE BEHAVIOR``: ccx 2.20 then enforces hard contact
 with Lagrange multipliers (measured penetration ~1e-24 m; a ``PRESSURE-OVERCLOSURE=HARD`` card would be
 reduced to a linear penalty with hidden defaults). Otherwise it writes ``PRESSURE-OVERCLOSURE=LINEAR`` with
@@ -34,13 +34,11 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DeckbridgeError
-from ..mesh import SkirtMesh, build_mesh
+from ..mesh import SkirtMesh
 from ..model import Model
-from ..outdir import safe_filename
-from . import register
-from ._env import render
-from .inp_cards import (Layout, element_lines, face_lines, id_lines, layout, node_block, real, reals,
-                        shared_context)
+from ..numbering.inp import GapIds, Layout, ccx_gaps, ccx_layout
+from ._env import deck_paths, render
+from .inp_cards import element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
 MORTAR_HARD = True           # mortar table pair without *SURFACE BEHAVIOR: hard (Lagrange) contact
 MORTAR_FACTOR = 1.0e4        # K_m = MORTAR_FACTOR * E / h1 [Pa/m]: stop gaps, stick slope, LINEAR variant
@@ -53,7 +51,6 @@ INC_LIMIT = 1000             # *STEP, INC= (upper bound on increments; DIRECT us
 
 def _common(model: Model, lay: Layout, method: str) -> dict:
     mesh = lay.mesh
-    next_elem = lay.next_elem + mesh.table.nodes.size
     return {
         **shared_context(model, lay, INC_LIMIT),
         "model": model,
@@ -63,7 +60,7 @@ def _common(model: Model, lay: Layout, method: str) -> dict:
         "time_controls": f"20, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, 4",
         "field_controls": f"{real(RESIDUAL_TOL)}, {real(CORRECTION_TOL)}, , , {real(RESIDUAL_TOL)}",
         "meta": _meta_lines(model, mesh, method),
-        "next_elem": next_elem,
+        "next_elem": lay.first_gap_elem,
     }
 
 
@@ -83,27 +80,25 @@ def _meta_lines(model: Model, mesh: SkirtMesh, method: str) -> list[str]:
     return lines
 
 
-def _gaps(mesh: SkirtMesh, sets, k_of, t: float, node: int, elem: int) -> dict:
-    """GAPUNI elements, one per slave node of ``sets``, to grounded nodes at the same place.
+def _gaps(model: Model, mesh: SkirtMesh, gap_ids: GapIds, k_of) -> dict:
+    """GAPUNI elements, one per slave node of ``gap_ids``, to grounded nodes at the same place.
 
     ``k_of(slave_set)`` gives the stiffness per node [N/m]; the tension for a wide opening is
     f_inf = open_ratio * k_c * t with the model's own penalty k_c (never the stiffer mortar-like one).
     """
-    ground_ids, ground_xyz, gaps = [], [], []
-    for ss in sets:
-        k = k_of(ss)
-        for i in range(ss.nodes.size):
-            slave = int(ss.nodes[i]) + 1
-            ground_ids.append(node)
-            ground_xyz.append(mesh.nodes[ss.nodes[i]])
-            gaps.append({"elset": f"GAP_{ss.surface.upper()}_{slave}", "id": elem,
-                         "elem": f"{elem}, {slave}, {node}",
-                         # 10 digits: the line must stay within ccx's 132 characters
-                         "line": f"{real(ss.clearance[i], 10)}, {reals(-ss.normal[i], 10)}, , {real(k[i], 10)}, "
-                                 f"{real(mesh.k_open_ratio * ss.k[i] * t, 10)}"})
-            node += 1
-            elem += 1
-    return {"ground": ("NGROUND", np.array(ground_ids, int), np.array(ground_xyz, float).reshape(-1, 3)),
+    t = model.geometry.thickness
+    k = [k_of(ss) for ss in gap_ids.sets]
+    gaps = []
+    for s_i, i, slave, node, elem in zip(gap_ids.set_index, gap_ids.row, gap_ids.slave, gap_ids.ground,
+                                         gap_ids.elem):
+        ss = gap_ids.sets[s_i]
+        gaps.append({"elset": f"GAP_{ss.surface.upper()}_{slave}", "id": int(elem),
+                     "elem": f"{elem}, {slave}, {node}",
+                     # 10 digits: the line must stay within ccx's 132 characters
+                     "line": f"{real(ss.clearance[i], 10)}, {reals(-ss.normal[i], 10)}, , {real(k[s_i][i], 10)}, "
+                             f"{real(mesh.k_open_ratio * ss.k[i] * t, 10)}"})
+    ground_xyz = mesh.nodes[gap_ids.slave - 1]
+    return {"ground": ("NGROUND", np.asarray(gap_ids.ground, int), np.array(ground_xyz, float).reshape(-1, 3)),
             "gaps": gaps,
             "gap_elems": id_lines([g["id"] for g in gaps])}
 
@@ -113,10 +108,9 @@ def penalty_context(model: Model, mesh: SkirtMesh) -> dict:
         raise DeckbridgeError(f"contact.friction = {model.contact.friction:g}: the CalculiX penalty deck uses "
                               "GAPUNI gap elements, which are frictionless: set it to 0, or leave out the calculix "
                               "dialect (--dialect)")
-    lay = layout(model, mesh)
+    lay = ccx_layout(model, mesh, "penalty")
     ctx = _common(model, lay, "penalty")
-    sets = [ss for ss in (mesh.table, mesh.stop) if ss is not None]
-    ctx.update(_gaps(mesh, sets, lambda ss: ss.k, model.geometry.thickness, lay.next_node, ctx["next_elem"]))
+    ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "penalty", lay), lambda ss: ss.k))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"]]))
     return ctx
 
@@ -127,7 +121,7 @@ def mortar_slope(model: Model, lay: Layout) -> float:
 
 
 def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
-    lay = layout(model, mesh, masters=("table",))
+    lay = ccx_layout(model, mesh, "mortar")
     ctx = _common(model, lay, "mortar")
     tm = lay.table_master
     km = mortar_slope(model, lay)
@@ -136,43 +130,20 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
                master_elems=element_lines(tm.elem_ids, tm.conn),
                mortar_k=real(km), mortar_hard=MORTAR_HARD, friction=mu > 0, friction_line=f"{real(mu)}, {real(STICK_SLOPE_RATIO * km)}",
                mortar_factor=real(MORTAR_FACTOR), h1=real(lay.first_row_height))
-    sets = [mesh.stop] if mesh.stop is not None else []
-    ctx.update(_gaps(mesh, sets, lambda ss: km * ss.area, model.geometry.thickness,
-                     int(tm.node_ids[-1]) + 1, ctx["next_elem"]))
+    ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "mortar", lay), lambda ss: km * ss.area))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                           [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]]))
     return ctx
 
 
-def ground_node_ids(model: Model, method: str) -> dict[tuple[int, str], int]:
-    """(slave node id, surface) -> grounded GAPUNI node id, as numbered in the ``method`` deck."""
-    mesh = build_mesh(model)
-    if method == "penalty":
-        ctx = penalty_context(model, mesh)
-    else:
-        ctx = mortar_context(model, mesh)
-    out = {}
-    for g in ctx["gaps"]:
-        _, slave, ground = (int(v) for v in g["elem"].split(","))
-        out[(slave, g["elset"].split("_")[1].lower())] = ground
-    return out
-
-
-def deck_names(model: Model) -> dict[str, str]:
-    """File names of the two CalculiX decks (method -> file name)."""
-    return {"penalty": safe_filename(f"{model.name}_ccx_penalty.inp"),
-            "mortar": safe_filename(f"{model.name}_ccx_lagrange.inp")}
-
-
-@register("calculix")
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the CalculiX penalty (GAPUNI) and mortar decks into ``outdir``."""
-    names = deck_names(model)
+    paths = dict(zip(("penalty", "mortar"), deck_paths("calculix", model.name, outdir)))
     out = []
     for method, ctx_fn, tpl in (("penalty", penalty_context, "penalty.inp.j2"),
                                 ("mortar", mortar_context, "mortar.inp.j2")):
         text = render("calculix", tpl, **ctx_fn(model, mesh))
-        p = Path(outdir) / names[method]
+        p = paths[method]
         p.write_text(text)
         out.append(p)
     return out

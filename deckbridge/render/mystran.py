@@ -21,32 +21,22 @@ from pathlib import Path
 
 from ..mesh import SkirtMesh
 from ..model import Model
-from ..outdir import safe_filename, write_text
+from ..outdir import write_text
 from . import nastran_cards as nc
-from . import register
-from ._env import render
+from ._env import deck_paths, render
 
 
 def deck_text(model: Model, mesh: SkirtMesh) -> str:
     """The whole linear deck as text."""
-    lay = nc.gap_layout(mesh)
     return render(
-        "mystran", "linear.bdf.j2",
-        name=model.name, title=model.title, lambda_max=f"{model.steps.lambda_max:g}",
-        coupling_kind=model.load_introduction, spc_sid=nc.SPC_SID, cid_cyl=nc.CID_CYL,
-        load=nc.LOAD_LINEAR, cord=[nc.cord2c_card()], material=nc.material_cards(model),
-        grids=nc.grid_cards(mesh), n_grids=mesh.n_nodes, ref_grid=nc.reference_grid_card(mesh),
-        hexas=nc.hexa_cards(mesh), n_hexa=mesh.hexes.shape[0],
-        ground_grids=nc.ground_grid_cards(mesh), spcs=nc.spc_ground_cards(lay.ground),
-        contact_springs=nc.contact_spring_cards(mesh), n_springs=len(lay),
+        "mystran", "linear.bdf.j2", **nc.model_context(model, mesh),
+        coupling_kind=model.load_introduction, load=nc.LOAD_LINEAR,
+        contact_springs=nc.contact_spring_cards(mesh),
         springs=nc.circumferential_spring_cards(mesh, grounded=False),
-        coupling=nc.coupling_cards(mesh, model), loads=nc.load_cards(mesh, model),
     )
 
 
-@register("mystran")
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write ``<name>_mystran.bdf`` into ``outdir``."""
-    path = Path(outdir) / safe_filename(f"{model.name}_mystran.bdf")
-    write_text(path, deck_text(model, mesh))
-    return [path]
+    (path,) = deck_paths("mystran", model.name, outdir)
+    return [write_text(path, deck_text(model, mesh))]

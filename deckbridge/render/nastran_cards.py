@@ -1,23 +1,9 @@
 """Bulk-data cards shared by the Nastran penalty deck and the MYSTRAN linear deck.
 
 Cards are built as field lists and laid out by pyNastran's field writers (8 or 16 characters a
-field), so every value fits its column. The id numbering lives here, in one place, because the
-readers (:mod:`deckbridge.readers.nastran_op2`, :mod:`deckbridge.readers.mystran_f06`) map element
-ids back to slave nodes with the same functions.
-
-Numbering (``node_offset`` and ``elem_offset`` are powers of ten above the mesh's counts):
-
-- skirt grids 1..n, CHEXA 1..m (mesh index + 1);
-- reference node (top centre) = ``node_offset``; grounded gap nodes ``node_offset + 1 + i``;
-- contact element i (CGAP in the penalty deck, CELAS2 in the linear deck), table slaves first,
-  then stop slaves: ``elem_offset + 1 + i``; its PGAP id equals its element id;
-- circumferential CELAS2 of table node i: ``2 * elem_offset + 1 + i``;
-- RBE3 / RBE2: ``3 * elem_offset + 1``.
-
-Gap convention (REFERENCE.md section 4): GA is the skirt node, GB a grounded node placed at a
-distance ``h`` (height of the first element row) along the master normal *away* from the skirt, so
-the gap axis GA->GB is ``-normal``: the gap closes when (uA - uB).x > U0, i.e. when the skirt node
-moves into the master; a positive axial force is compression.
+field), so every value fits its column. The ids (skirt, reference node, grounded gap nodes, gap and
+spring elements, RBE) and the gap convention are in :mod:`deckbridge.numbering.nastran`, which the
+readers (:mod:`deckbridge.readers.nastran_op2`, :mod:`deckbridge.readers.mystran_f06`) use too.
 """
 
 from __future__ import annotations
@@ -32,6 +18,7 @@ from pyNastran.bdf.field_writer_8 import print_card_8
 from ..errors import DeckbridgeError
 from ..mesh import SkirtMesh
 from ..model import Model
+from ..numbering.nastran import clean_xyz, gap_layout, numbering
 
 PID_SOLID = 1
 MID = 1
@@ -45,89 +32,6 @@ NLPARM_STEP1, NLPARM_STEP2 = 1, 2
 COMP_RADIAL, COMP_THETA, COMP_Z = 1, 2, 3
 
 
-def _offset(*counts: int) -> int:
-    """Smallest power of ten strictly above every count."""
-    return 10 ** len(str(max(counts)))
-
-
-@dataclass(frozen=True)
-class Numbering:
-    node_offset: int
-    elem_offset: int
-
-    @property
-    def ref_node(self) -> int:
-        return self.node_offset
-
-    @property
-    def rigid_eid(self) -> int:
-        return 3 * self.elem_offset + 1
-
-
-@dataclass(frozen=True)
-class GapLayout:
-    """One contact element per slave node (table first, then stop). Arrays of equal length.
-
-    ``axis`` is the unit gap axis GA->GB (= -master normal); ``k`` the closed stiffness KA [N/m],
-    ``u0`` the clearance [m], ``area`` the slave node's tributary area [m^2], ``k_t`` the tangent
-    stiffness KT [N/m] (the circumferential restraint of that base node).
-    """
-    eid: np.ndarray
-    node: np.ndarray
-    ground: np.ndarray
-    surface: np.ndarray
-    axis: np.ndarray
-    ground_xyz: np.ndarray
-    k: np.ndarray
-    k_t: np.ndarray
-    u0: np.ndarray
-    area: np.ndarray
-    theta_deg: np.ndarray
-    r: np.ndarray
-    z: np.ndarray
-
-    def __len__(self) -> int:
-        return self.eid.size
-
-
-def numbering(mesh: SkirtMesh) -> Numbering:
-    n_stop = 0 if mesh.stop is None else mesh.stop.nodes.size
-    n_contact = mesh.table.nodes.size + n_stop
-    return Numbering(node_offset=_offset(mesh.n_nodes + n_contact),
-                     elem_offset=_offset(mesh.hexes.shape[0], n_contact))
-
-
-def ground_distance(mesh: SkirtMesh) -> float:
-    """Distance of a grounded gap node from its slave node: height of the first element row [m]."""
-    n_ring = (mesh.n_r + 1) * mesh.n_theta
-    return float(mesh.nodes[n_ring * 1, 2] - mesh.nodes[0, 2]) if mesh.n_nodes > n_ring else 1.0
-
-
-def gap_layout(mesh: SkirtMesh) -> GapLayout:
-    """Contact elements of ``mesh`` with their ids, grounded nodes and properties."""
-    num = numbering(mesh)
-    sets = [mesh.table] + ([mesh.stop] if mesh.stop is not None else [])
-    kt_of_node = dict(zip(mesh.table.nodes.tolist(), mesh.k_tangent.tolist()))
-    d = ground_distance(mesh)
-    cols: dict[str, list] = {k: [] for k in ("node", "surface", "axis", "k", "k_t", "u0", "area",
-                                              "theta_deg", "r", "z")}
-    for s in sets:
-        n = s.nodes.size
-        cols["node"].append(s.nodes + 1)
-        cols["surface"].append(np.full(n, s.surface, dtype=object))
-        cols["axis"].append(-np.asarray(s.normal, float))
-        cols["k"].append(np.asarray(s.k, float))
-        cols["k_t"].append(np.array([kt_of_node[int(i)] for i in s.nodes], float))
-        cols["u0"].append(np.asarray(s.clearance, float))
-        for key in ("area", "theta_deg", "r", "z"):
-            cols[key].append(np.asarray(getattr(s, key), float))
-    c = {k: np.concatenate(v) for k, v in cols.items()}
-    n = c["node"].size
-    ground_xyz = _clean(mesh.nodes[c["node"] - 1] + d * c["axis"])
-    return GapLayout(eid=num.elem_offset + 1 + np.arange(n), ground=num.node_offset + 1 + np.arange(n),
-                     ground_xyz=ground_xyz, **c)
-
-
 # --- field layout --------------------------------------------------------------------------------
 def card8(fields: list) -> str:
     return print_card_8(fields)
@@ -137,16 +41,23 @@ def card16(fields: list) -> str:
     return print_card_16(fields)
 
 
-def _clean(xyz: np.ndarray) -> np.ndarray:
-    """Coordinates with round-off residues (|x| < 1e-13 of the model size) set to 0."""
-    out = np.array(xyz, float)
-    out[np.abs(out) < 1e-13 * max(float(np.abs(out).max()), 1e-300)] = 0.0
-    return out
-
-
 def _f(x) -> float:
     """A plain Python float (numpy scalars print the same, but keep the writers' input simple)."""
     return float(x)
+
+
+def model_context(model: Model, mesh: SkirtMesh) -> dict:
+    """Template values both Nastran-family decks share: skirt, reference and grounded grids, material,
+    coupling and loads; ``n_contacts`` = number of contact elements (CGAP or CELAS2)."""
+    lay = gap_layout(mesh)
+    return {
+        "name": model.name, "title": model.title, "lambda_max": f"{model.steps.lambda_max:g}",
+        "spc_sid": SPC_SID, "cid_cyl": CID_CYL, "cord": [cord2c_card()], "material": material_cards(model),
+        "grids": grid_cards(mesh), "n_grids": mesh.n_nodes, "ref_grid": reference_grid_card(mesh),
+        "hexas": hexa_cards(mesh), "n_hexa": mesh.hexes.shape[0],
+        "ground_grids": ground_grid_cards(mesh), "spcs": spc_ground_cards(lay.ground), "n_contacts": len(lay),
+        "coupling": coupling_cards(mesh, model), "loads": load_cards(mesh, model),
+    }
 
 
 # --- model cards ---------------------------------------------------------------------------------
@@ -154,7 +65,7 @@ def grid_cards(mesh: SkirtMesh) -> list[str]:
     """Skirt GRIDs in the basic system; base (table) nodes get CD = the cylindrical system."""
     cd = np.zeros(mesh.n_nodes, int)
     cd[mesh.table.nodes] = CID_CYL
-    xyz = _clean(mesh.nodes)
+    xyz = clean_xyz(mesh.nodes)
     return [card16(["GRID", i + 1, None, _f(x), _f(y), _f(z), int(cd[i]) or None])
             for i, (x, y, z) in enumerate(xyz)]
 
@@ -240,7 +151,7 @@ def circumferential_spring_cards(mesh: SkirtMesh, grounded: bool = True) -> list
     ``grounded``: second grid blank (Nastran); otherwise tied to the node's table-gap grounded
     node (MYSTRAN, which refuses grounded CELAS2).
     """
-    base = 2 * numbering(mesh).elem_offset + 1
+    base = numbering(mesh).spring_base
     lay = gap_layout(mesh)
     ground = dict(zip(lay.node[lay.surface == "table"].tolist(), lay.ground[lay.surface == "table"].tolist()))
     cards = []

@@ -1,0 +1,20 @@
+"""Skirt ids shared by every deck: node id = mesh node index + 1, element id = hexahedron index + 1."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def node_ids(index) -> np.ndarray:
+    """Deck node ids of mesh node indices (0-based -> 1-based)."""
+    return np.asarray(index, dtype=np.int64) + 1
+
+
+def node_index(ids) -> np.ndarray:
+    """Mesh node indices of deck node ids (inverse of :func:`node_ids`)."""
+    return np.asarray(ids, dtype=np.int64) - 1
+
+
+def element_ids(n_elements: int) -> np.ndarray:
+    """Deck element ids of the skirt's ``n_elements`` hexahedra: 1..n."""
+    return np.arange(1, n_elements + 1)

@@ -1,0 +1,139 @@
+"""The import graph of deckbridge and reference_solver, read with ``ast`` (function-level imports too).
+
+Edges: ``import a.b`` and ``from a import b`` (to the module ``a.b`` when it is one, else to ``a``),
+relative imports resolved; a package's ``__init__`` is the node of the package (its re-exports are
+edges from the package). Imports by name at run time (``importlib.import_module``, the dialect table's
+``"module:attr"`` strings) are not edges: that is how registries stay leaves.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("deckbridge", "reference_solver")
+
+
+def modules() -> dict[str, Path]:
+    """Module name -> source file, for every module of the two packages."""
+    out = {}
+    for pkg in PACKAGES:
+        for path in sorted((ROOT / pkg).rglob("*.py")):
+            parts = list(path.relative_to(ROOT).with_suffix("").parts)
+            if parts[-1] == "__init__":
+                parts.pop()
+            out[".".join(parts)] = path
+    return out
+
+
+def _known(name: str, mods: dict) -> str | None:
+    """``name`` or its nearest enclosing module that exists."""
+    while name and name not in mods:
+        name = name.rpartition(".")[0]
+    return name or None
+
+
+def edges() -> set[tuple[str, str]]:
+    mods = modules()
+    out = set()
+    for name, path in mods.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            targets = []
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = package.split(".")[:len(package.split(".")) - (node.level - 1)]
+                    target = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    target = node.module or ""
+                targets = [f"{target}.{a.name}" if f"{target}.{a.name}" in mods else target for a in node.names]
+            for t in targets:
+                k = _known(t, mods)
+                if k and k != name:
+                    out.add((name, k))
+    return out
+
+
+def cycles(graph_edges: set[tuple[str, str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan), each sorted."""
+    succ: dict[str, list[str]] = {}
+    for a, b in graph_edges:
+        succ.setdefault(a, []).append(b)
+        succ.setdefault(b, [])
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(succ[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(succ):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_graph_sees_function_level_and_relative_imports():
+    e = edges()
+    assert ("deckbridge.render.calculix", "deckbridge.numbering.inp") in e        # module level, relative
+    assert ("deckbridge.job", "deckbridge.dialects") in e                           # inside a function
+    assert ("deckbridge.render", "deckbridge.dialects") in e                        # a package's __init__
+    # a two-module cycle is found
+    assert cycles({("a", "b"), ("b", "a"), ("b", "c")}) == [["a", "b"]]
+
+
+# Cycles in part B's files of issue 9 (compare/), removed on part B's branch: the lead deletes this
+# set and the xfail below at the merge.
+PART_B_EDGES = {("deckbridge.compare.series", "deckbridge.compare.align")}
+
+
+def test_no_import_cycle_between_modules_of_deckbridge():
+    assert cycles(edges() - PART_B_EDGES) == []
+
+
+@pytest.mark.xfail(strict=True, reason="part B: compare/series.py imports compare/align.py back")
+@pytest.mark.parametrize("edge", sorted(PART_B_EDGES))
+def test_part_b_edge_closes_no_cycle(edge):
+    assert not any(edge[0] in c and edge[1] in c for c in cycles(edges()))
+
+
+def test_readers_never_import_render():
+    bad = sorted((a, b) for a, b in edges()
+                 if a.startswith("deckbridge.readers") and b.startswith("deckbridge.render"))
+    assert bad == []
+
+
+def test_reference_solver_imports_nothing_from_deckbridge():
+    bad = sorted((a, b) for a, b in edges() if a.startswith("reference_solver") and b.startswith("deckbridge"))
+    assert bad == []
+
+
+@pytest.mark.parametrize("leaf", ["deckbridge.dialects", "deckbridge.readers._registry"])
+def test_registries_are_leaves(leaf):
+    assert sorted(b for a, b in edges() if a == leaf) == []
+
+
+@pytest.mark.parametrize("pkg", ["deckbridge.render", "deckbridge.readers"])
+def test_registered_modules_do_not_import_their_package_back(pkg):
+    assert sorted(a for a, b in edges() if b == pkg and a.startswith(pkg + ".")) == []
