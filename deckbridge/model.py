@@ -19,10 +19,11 @@ import yaml
 
 __all__ = [
     "ModelError", "Geometry", "MeshSpec", "Material", "Stop", "Penalty", "Contact",
-    "Loads", "Steps", "Outputs", "Model", "default_text", "load", "loads_model",
+    "Loads", "Steps", "Analysis", "Outputs", "Model", "default_text", "load", "loads_model",
     "apply_overrides", "parse_override",
 ]
 
+UNITS = ("SI", "mm")   # deck units: SI = N, m, Pa, kg; mm = N, mm, MPa, t (the model itself is always SI)
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,39}$")
 
 
@@ -212,6 +213,20 @@ class Steps:
 
 
 @dataclass(frozen=True)
+class Analysis:
+    """Analysis options that every deck writes explicitly.
+
+    ``nlgeom``: geometric nonlinearity (large displacements). False is the small-strain analysis of
+    the reference solver: Nastran ``PARAM,LGDISP,-1``, Abaqus ``NLGEOM=NO``, CalculiX without ``NLGEOM``.
+    """
+    nlgeom: bool = False
+
+    def __post_init__(self):
+        if not isinstance(self.nlgeom, bool):
+            raise ModelError("analysis.nlgeom", self.nlgeom, "must be true or false")
+
+
+@dataclass(frozen=True)
 class Outputs:
     """What the reference solver writes besides contact.csv and summary.json."""
     vtu: bool = True
@@ -233,6 +248,8 @@ class Model:
     load_introduction: str = "distributing"
     loads: Loads = field(default_factory=Loads)
     steps: Steps = field(default_factory=Steps)
+    analysis: Analysis = field(default_factory=Analysis)
+    units: str = "SI"
     outputs: Outputs = field(default_factory=Outputs)
 
     def __post_init__(self):
@@ -241,6 +258,7 @@ class Model:
                              "must be 1-40 letters, digits, '_', '-', '.' starting with a letter or digit")
         _text("title", self.title)
         _choice("load_introduction", self.load_introduction, ("distributing", "kinematic"))
+        _choice("units", self.units, UNITS)
 
     # --- conversions -------------------------------------------------------------------
     @classmethod
