@@ -39,8 +39,13 @@ fi
 hash_now="$(cat "$root/pyproject.toml" | sha256sum | cut -c1-16)"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$hash_now" ]; then
   echo "bootstrap: installing Python packages into $venv" >&2
-  "$venv/bin/python" -m pip install -q --upgrade pip >/dev/null
-  "$venv/bin/python" -m pip install -q -e "$root[fast,test]"
+  log="$venv/pip-install.log"
+  if ! { "$venv/bin/python" -m pip install -q --upgrade pip \
+         && "$venv/bin/python" -m pip install -q -e "$root[fast,test]"; } >"$log" 2>&1; then
+    tail -n 40 "$log" >&2
+    echo "bootstrap: pip install failed (full log: $log)" >&2
+    exit 1
+  fi
   echo "$hash_now" > "$stamp"
 fi
 [ $# -gt 0 ] || exit 0
