@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Callable
 
 from .compare import compare_tables
+from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare
 from .render import render_all
@@ -30,10 +31,11 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     """Run the main job on ``model`` into ``outdir``; return {'report': path, 'summary': dict, ...}."""
     out = prepare(outdir)
     t0 = time.perf_counter()
-    decks = render_all(model, out / "decks")
+    mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
+    decks = render_all(model, out / "decks", mesh=mesh)
     echo(f"decks: {len(decks)} files in {out / 'decks'}")
 
-    mesh, system = condense_model(model)
+    mesh, system = condense_model(model, mesh)
     echo(f"reference solver: {system.dofs} dofs, {system.n_contacts} contact rows, "
          f"condensed in {time.perf_counter() - t0:.1f} s")
     tables, origins, summaries = [], [], {}

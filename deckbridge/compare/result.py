@@ -19,7 +19,8 @@ import pandas as pd
 from ..errors import DeckbridgeError
 from .align import align
 from .metrics import liftoff_load_factor, liftoff_zones, pair_metrics, peak_compression, zone_iou
-from .series import LAMBDA_TOL, Profile, Series, split_tables
+from .profile import LAMBDA_TOL, Profile
+from .series import Series, split_tables
 
 
 @dataclass
@@ -80,7 +81,7 @@ class ComparisonResult:
                 "peak_compression_pa": None if peak is None else peak[0],
                 "peak_compression_theta_deg": None if peak is None else peak[1],
             }
-        return _clean({
+        return json_clean({
             "conventions": "sigma_n < 0 compression, > 0 tension/liftoff [Pa]; theta [deg] CCW from +x; "
                            "pair differences are sigma_b - sigma_a; liftoff zones [start, end] CCW, "
                            "start > end wraps through 0; overlap = intersection over union on the circle; "
@@ -100,12 +101,12 @@ class ComparisonResult:
         })
 
 
-def _clean(obj):
+def json_clean(obj):
     """Plain Python types for JSON; non-finite floats become None."""
     if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
+        return {str(k): json_clean(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
+        return [json_clean(v) for v in obj]
     if isinstance(obj, (np.integer,)):
         return int(obj)
     if isinstance(obj, (float, np.floating)):

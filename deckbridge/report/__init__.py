@@ -11,7 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..compare.result import ComparisonResult, _clean
+from ..compare.result import ComparisonResult, json_clean
 from ..outdir import staged
 from .figures import global_figure, png_bytes, sigma_n_figure
 from .globals import fields, global_metrics
@@ -32,7 +32,7 @@ def write_report(result: ComparisonResult, outdir, model=None, extra: dict | Non
     text = render(result, figures, model=model, glob=glob, inputs=extra.get("inputs"), notes=extra.get("notes"),
                   global_png=None if gfig is None else png_bytes(gfig))
     summary = result.summary()
-    summary["global"] = _clean({lab: glob.get(lab) or None for lab in result.labels})
+    summary["global"] = json_clean({lab: glob.get(lab) or None for lab in result.labels})
     summary["model"] = None if model is None else model.to_dict()
     names = ["report.html", "sigma_n.png", "discrepancy.csv", "summary.json"]
     with staged(outdir) as stage:

@@ -13,8 +13,8 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
+from ..azimuth import azimuth_deg
 from ..compare.metrics import zone_intervals
-from ..mesh import azimuth_deg
 from ..compare.result import PointResult
 
 _MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]

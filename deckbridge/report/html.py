@@ -68,7 +68,7 @@ def img(png: bytes, alt: str, cls: str = "figure") -> str:
 def model_rows(model) -> list[tuple[str, str]]:
     """(quantity, value) lines of the model summary, with the beam-theory liftoff anchor."""
     g, m, mat, ld, st, pen = model.geometry, model.mesh, model.material, model.loads, model.steps, model.contact.penalty
-    lam_c = ld.N * g.radius / 2.0 / model.base_moment if model.base_moment > 0 else None
+    lam_c = model.beam_theory_liftoff()
     return [
         ("name / title", f"{model.name} / {model.title}"),
         ("geometry", f"R = {g.radius:g} m, H = {g.height:g} m, t = {g.thickness:g} m, top radius = {g.r_top:g} m"),
