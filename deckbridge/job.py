@@ -20,7 +20,9 @@ from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare
 from .render import render_all
+from .readers.reference import read_globals
 from .report import write_report
+from .results import SourceResult
 from .solve import condense_model, solve_system, write_outputs
 
 Echo = Callable[[str], None]
@@ -47,7 +49,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
         echo(f"reference {method}: liftoff at lambda = "
              + ("none" if lam is None else f"{lam:.4f} (theta {summary['liftoff_theta_deg']:.1f} deg)")
              + f", min sigma_n {summary['min_sigma_n_pa'] / 1e6:.2f} MPa")
-        tables.append(df)
+        tables.append(SourceResult(df, str(folder), summary=summary, **read_globals(folder, [method])))
         origins.append(str(folder))
         summaries[method] = summary
 

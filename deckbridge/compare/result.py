@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
+from ..results import SourceResult
 from .align import align
 from .metrics import liftoff_load_factor, liftoff_zones, pair_metrics, peak_compression, zone_iou
 from .profile import LAMBDA_TOL, Profile
@@ -43,6 +44,11 @@ class ComparisonResult:
     series: list[Series]
     points: list[PointResult]
     liftoff: dict[str, float | None]
+    sources: dict[str, SourceResult] = field(default_factory=dict)   # label -> the record it came from
+
+    def source(self, label: str) -> SourceResult | None:
+        """The record a series came from (its globals, fields, solver summary), None if not given."""
+        return self.sources.get(label)
 
     @property
     def labels(self) -> list[str]:
@@ -192,14 +198,24 @@ def compare_series(series: list[Series], load_factors: list[float] | None = None
     return ComparisonResult(series, points, liftoff)
 
 
-def compare_tables(tables: list[pd.DataFrame], load_factors=None, origins=None,
-                   surface: str = "table") -> ComparisonResult:
+def compare_tables(tables: list, load_factors=None, origins=None, surface: str = "table") -> ComparisonResult:
     """Compare tidy contact tables (one or more (source, method) each) on azimuth.
 
-    ``load_factors``: lambda values to compare at (default: see module doc); ``origins``: the file
-    or folder of each table (labels of equal sources get its folder name; the report reads global
-    results from reference folders); ``surface``: 'table' (vertical contact, liftoff) or 'stop'.
+    ``tables``: DataFrames or :class:`~deckbridge.results.SourceResult` records (their globals go to
+    the report); ``load_factors``: lambda values to compare at (default: see module doc); ``origins``:
+    the file or folder of each table (default: the records' own; labels of equal sources get its
+    folder name); ``surface``: 'table' (vertical contact, liftoff) or 'stop'.
     """
     if isinstance(load_factors, (int, float)):
         load_factors = [float(load_factors)]
-    return compare_series(split_tables(list(tables), origins, surface), load_factors)
+    tables = list(tables)
+    origins = list(origins) if origins is not None else [getattr(t, "origin", None) for t in tables]
+    if len(origins) != len(tables):
+        raise ValueError("origins must match tables one to one")
+    records = [SourceResult.wrap(t, o) for t, o in zip(tables, origins)]
+    result = compare_series(split_tables([r.table for r in records], origins, surface), load_factors)
+    by_origin = {}
+    for r in records:
+        by_origin.setdefault(r.origin, r)
+    result.sources = {s.label: by_origin[s.origin] for s in result.series if s.origin in by_origin}
+    return result

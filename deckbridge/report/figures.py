@@ -76,7 +76,7 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
     """Global level (cf. the paper's FIG. 3): von Mises on the unrolled wall (theta, z) per source, and
     the vertical displacement of the base ring vs azimuth (its deformed shape), one curve per source.
 
-    ``fields``: label -> :func:`deckbridge.report.globals.fields` output. None when nothing to draw.
+    ``fields``: label -> :func:`deckbridge.readers.reference.fields` output (a record's ``fields``). None when nothing to draw.
     """
     vm_src = [lab for lab in labels if fields.get(lab) and fields[lab]["vm"] is not None][:4]
     u_src = [lab for lab in labels if fields.get(lab) and fields[lab]["u"] is not None]
