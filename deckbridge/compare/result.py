@@ -10,13 +10,13 @@ Pair differences are sigma_b - sigma_a, pairs taken in source order (a before b)
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
+from ..jsonable import json_clean
 from ..results import SourceResult
 from .align import align
 from .metrics import liftoff_load_factor, liftoff_zones, pair_metrics, peak_compression, zone_iou
@@ -105,22 +105,6 @@ class ComparisonResult:
                 "pairs": p.pairs,
             } for p in self.points],
         })
-
-
-def json_clean(obj):
-    """Plain Python types for JSON; non-finite floats become None."""
-    if isinstance(obj, dict):
-        return {str(k): json_clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [json_clean(v) for v in obj]
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    return obj
 
 
 def _same(a: float, b: float) -> bool:

@@ -100,9 +100,18 @@ def check_against_model(df: pd.DataFrame, model, path) -> None:
 
 
 def read_source(path, model=None) -> SourceResult:
-    """The table of :func:`read` with the folder's global figures per method and its result.vtu fields."""
+    """The table of :func:`read` with the folder's global figures per method, its result.vtu fields and
+    its summary.json (the solver's liftoff, reactions, timings) when that is a JSON object."""
     table = read(Path(path), model=model)
-    return SourceResult(table, str(path), **read_globals(path, table["method"].unique()))
+    summary = None
+    folder = _folder(path)
+    if folder is not None and (folder / "summary.json").is_file():
+        try:
+            summary = json.loads((folder / "summary.json").read_text())
+        except (OSError, ValueError):
+            summary = None
+    return SourceResult(table, str(path), summary=summary if isinstance(summary, dict) else None,
+                        **read_globals(path, table["method"].unique()))
 
 
 def read_globals(origin, methods) -> dict:

@@ -115,7 +115,7 @@ def penalty_context(model: Model, mesh: SkirtMesh) -> dict:
                               "dialect (--dialect)")
     lay = layout(model, mesh)
     ctx = _common(model, lay, "penalty")
-    sets = [ss for ss in (mesh.table, mesh.stop) if ss is not None]
+    sets = mesh.slave_sets
     ctx.update(_gaps(mesh, sets, lambda ss: ss.k, model.geometry.thickness, lay.next_node, ctx["next_elem"]))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"]]))
     return ctx

@@ -13,7 +13,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..compare.result import ComparisonResult, json_clean
+from ..compare.result import ComparisonResult
+from ..jsonable import json_clean
 from ..outdir import staged
 from .figures import global_figure, png_bytes, sigma_n_figure
 from .html import render
