@@ -27,6 +27,14 @@ def colours(labels: list[str]) -> dict[str, str]:
     return {lab: cycle[i % len(cycle)] for i, lab in enumerate(labels)}
 
 
+def _azimuth_axis(ax) -> None:
+    """x: azimuth 0..360 deg, ticks every 30 deg; a black zero line (liftoff / no displacement)."""
+    ax.axhline(0.0, color="black", lw=0.8)
+    ax.set_xlim(0.0, 360.0)
+    ax.set_xticks(np.arange(0, 361, 30))
+    ax.set_xlabel("azimuth θ [deg]")
+
+
 def sigma_n_figure(point: PointResult, labels: list[str], title: str | None = None) -> Figure:
     """sigma_N [MPa] vs azimuth [deg] at one load factor, one curve per source, liftoff zones shaded."""
     fig = Figure(figsize=(9.0, 4.8), dpi=110)
@@ -53,10 +61,7 @@ def sigma_n_figure(point: PointResult, labels: list[str], title: str | None = No
         if spans:   # a bar per source along the top tells overlapping zones apart
             ax.broken_barh(spans, (0.99 - 0.035 * (k + 1), 0.025), transform=ax.get_xaxis_transform(),
                            color=col[lab], lw=0)
-    ax.axhline(0.0, color="black", lw=0.8)
-    ax.set_xlim(0.0, 360.0)
-    ax.set_xticks(np.arange(0, 361, 30))
-    ax.set_xlabel("azimuth θ [deg]")
+    _azimuth_axis(ax)
     ax.set_ylabel("σN [MPa]  (< 0 compression, > 0 liftoff)")
     ax.grid(True, lw=0.4, alpha=0.6)
     ax.set_title(title or f"σN at the base vs azimuth, λ = {point.load_factor:.4g} ({point.what})", fontsize=10)
@@ -123,10 +128,7 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
                   / np.bincount(np.unique(th, return_inverse=True)[1]))
             t1 = np.unique(th)
             ax.plot(np.append(t1, t1[0] + 360.0), np.append(uz, uz[0]) * 1e3, color=col[lab], lw=1.5, label=lab)
-        ax.axhline(0.0, color="black", lw=0.8)
-        ax.set_xlim(0, 360)
-        ax.set_xticks(np.arange(0, 361, 30))
-        ax.set_xlabel("azimuth θ [deg]")
+        _azimuth_axis(ax)
         ax.set_ylabel("u_z at the base [mm]")
         ax.set_title("deformed shape: vertical displacement of the base ring (> 0 lifts)", fontsize=9)
         ax.grid(True, lw=0.4, alpha=0.6)
