@@ -16,10 +16,13 @@ from pathlib import Path
 from typing import Callable
 
 from .compare import compare_tables
+from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare
 from .render import render_all
+from .readers.reference import read_globals
 from .report import write_report
+from .results import SourceResult
 from .solve import condense_model, solve_system, write_outputs
 
 Echo = Callable[[str], None]
@@ -30,10 +33,11 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     """Run the main job on ``model`` into ``outdir``; return {'report': path, 'summary': dict, ...}."""
     out = prepare(outdir)
     t0 = time.perf_counter()
-    decks = render_all(model, out / "decks")
+    mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
+    decks = render_all(model, out / "decks", mesh=mesh)
     echo(f"decks: {len(decks)} files in {out / 'decks'}")
 
-    mesh, system = condense_model(model)
+    mesh, system = condense_model(model, mesh)
     echo(f"reference solver: {system.dofs} dofs, {system.n_contacts} contact rows, "
          f"condensed in {time.perf_counter() - t0:.1f} s")
     tables, origins, summaries = [], [], {}
@@ -45,7 +49,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
         echo(f"reference {method}: liftoff at lambda = "
              + ("none" if lam is None else f"{lam:.4f} (theta {summary['liftoff_theta_deg']:.1f} deg)")
              + f", min sigma_n {summary['min_sigma_n_pa'] / 1e6:.2f} MPa")
-        tables.append(df)
+        tables.append(SourceResult(df, str(folder), summary=summary, **read_globals(folder, [method])))
         origins.append(str(folder))
         summaries[method] = summary
 

@@ -13,6 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
+from .azimuth import azimuth_deg  # noqa: F401 (re-exported: mesh.azimuth_deg)
 from .model import Model
 
 _G = 1.0 / np.sqrt(3.0)
@@ -22,11 +23,6 @@ _GAUSS2 = np.array([-_G, _G])
 def node_index(k: np.ndarray | int, i: np.ndarray | int, j: np.ndarray | int, n_r: int, n_theta: int):
     """Index of the node at height level k, wall level i, azimuth step j (j wraps)."""
     return (np.asarray(k) * (n_r + 1) + np.asarray(i)) * n_theta + np.mod(j, n_theta)
-
-
-def azimuth_deg(x, y):
-    """Azimuth of points (x, y) in degrees, counter-clockwise from +x, in [0, 360)."""
-    return np.mod(np.degrees(np.arctan2(y, x)), 360.0)
 
 
 def quad_nodal_areas(xyz: np.ndarray) -> np.ndarray:
@@ -84,6 +80,36 @@ class SlaveSet:
 
 
 @dataclass(frozen=True)
+class ContactRows:
+    """Every contact row of the mesh in solver order: the table's slave nodes, then the stop's (if any).
+
+    Row arrays: ``nodes`` (0-based), ``normals`` (n, 3), ``area`` [m^2], ``k`` [N/m], ``clearance`` [m],
+    ``surface`` ('table' | 'stop'), ``theta`` [deg, 0..360), ``z`` [m], ``r`` [m].
+    """
+    nodes: np.ndarray
+    normals: np.ndarray
+    area: np.ndarray
+    k: np.ndarray
+    clearance: np.ndarray
+    surface: np.ndarray
+    theta: np.ndarray
+    z: np.ndarray
+    r: np.ndarray
+
+    @classmethod
+    def of(cls, sets: list[SlaveSet]) -> "ContactRows":
+        cat = lambda name: np.concatenate([getattr(s, name) for s in sets])  # noqa: E731
+        return cls(nodes=cat("nodes"), normals=cat("normal"), area=cat("area"), k=cat("k"),
+                   clearance=cat("clearance"),
+                   surface=np.concatenate([[s.surface] * s.nodes.size for s in sets]),
+                   theta=cat("theta_deg"), z=cat("z"), r=cat("r"))
+
+    @property
+    def size(self) -> int:
+        return int(self.nodes.size)
+
+
+@dataclass(frozen=True)
 class SkirtMesh:
     """The skirt's hexahedral mesh with the contact and load-introduction data derived from the model."""
     nodes: np.ndarray          # (n, 3) [m]
@@ -102,6 +128,16 @@ class SkirtMesh:
     @property
     def n_nodes(self) -> int:
         return self.nodes.shape[0]
+
+    @property
+    def slave_sets(self) -> list[SlaveSet]:
+        """The slave sets in contact-row order: table, then stop when there is one."""
+        return [self.table] + ([self.stop] if self.stop is not None else [])
+
+    @cached_property
+    def contact_rows(self) -> ContactRows:
+        """The one contact-row table (table rows, then stop rows) that the solver and the readers use."""
+        return ContactRows.of(self.slave_sets)
 
     @cached_property
     def theta_deg(self) -> np.ndarray:

@@ -295,6 +295,14 @@ class Model:
         """M_b = M + T*H at lambda = 1 [N m] (opens the side at loads.azimuth)."""
         return self.loads.M + self.loads.T * self.geometry.height
 
+    def beam_theory_liftoff(self) -> float | None:
+        """Beam-theory liftoff load factor of a thin ring, rigid section: lambda_c = N R / (2 M_b) [-].
+
+        None when M_b = M + T*H <= 0 (step 2 does not bend the skirt open).
+        """
+        mb = self.base_moment
+        return self.loads.N * self.geometry.radius / 2 / mb if mb > 0 else None
+
 
 def _build(cls, data: Any, prefix: str):
     if not isinstance(data, Mapping):

@@ -6,6 +6,8 @@ One row per (source, method, step, increment, slave node). sigma_n_pa < 0 is com
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import pandas as pd
 
 COLUMNS = [
@@ -55,3 +57,30 @@ def conform(df: pd.DataFrame) -> pd.DataFrame:
     if ((th < 0) | (th >= 360)).any():
         raise ResultsError("theta_deg outside [0, 360)")
     return out.reset_index(drop=True)
+
+
+@dataclass
+class SourceResult:
+    """One source's results: the tidy table, where it came from, and its global figures where it has them.
+
+    ``globals``: per method, {'max_von_mises_pa' [Pa], 'max_displacement_m' [m], 'from'} ({} where none);
+    ``fields``: whole-model fields at the last step, {'xyz' (n, 3) [m], 'u' (n, 3) [m] or None, 'vm_xyz',
+    'vm' [Pa] or None}, or None; ``summary``: the solver's summary dict (liftoff, reactions, timings), if any.
+    """
+    table: pd.DataFrame
+    origin: str | None = None
+    globals: dict[str, dict] = field(default_factory=dict)
+    fields: dict | None = None
+    summary: dict | None = None
+
+    @classmethod
+    def wrap(cls, obj, origin=None) -> "SourceResult":
+        """``obj`` itself when already a record, else a plain table wrapped with no globals."""
+        if isinstance(obj, SourceResult):
+            return obj if origin is None or obj.origin is not None else cls(obj.table, str(origin), obj.globals,
+                                                                           obj.fields, obj.summary)
+        return cls(obj, None if origin is None else str(origin))
+
+    def globals_for(self, method: str) -> dict:
+        """Global figures of ``method`` ({} when the source has none)."""
+        return self.globals.get(method) or {}

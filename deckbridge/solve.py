@@ -1,6 +1,7 @@
 """The reference solver run on the neutral model: Model + SkirtMesh -> reference_solver -> tidy table.
 
-``solve_model`` returns the contact table (schema of :mod:`deckbridge.results`, source 'reference')
+``solve_path`` is the one call of the reference solver's load path (``solve``, ``run``, ``sweep`` and
+``liftoff`` all go through it); ``solve_model`` returns the contact table (schema of :mod:`deckbridge.results`, source 'reference')
 and a summary dict; ``write_outputs`` writes DIR/contact.csv, DIR/summary.json and DIR/result.vtu
 atomically. ``build_problem`` and ``condense_model`` expose the translation and the reusable condensed
 system (factor once, then sweep methods and penalty factors with ``solve_system``).
@@ -21,7 +22,8 @@ import pandas as pd
 import reference_solver as rs
 
 from .errors import DeckbridgeError
-from .mesh import SkirtMesh, azimuth_deg, build_mesh
+from .azimuth import wrap_deg
+from .mesh import SkirtMesh, build_mesh
 from .model import Model
 from .outdir import staged
 from .results import conform
@@ -32,18 +34,14 @@ SOURCE = "reference"
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (C3D8I elements)."""
     mesh = mesh or build_mesh(model)
-    sets = [mesh.table] + ([mesh.stop] if mesh.stop is not None else [])
+    rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
     z3 = (0.0, 0.0, 0.0)
     return rs.Problem(
         nodes=mesh.nodes, hexes=mesh.hexes, E=model.material.E, nu=model.material.nu,
-        contact_nodes=np.concatenate([s.nodes for s in sets]),
-        contact_normals=np.concatenate([s.normal for s in sets]),
-        contact_area=np.concatenate([s.area for s in sets]),
-        contact_k=np.concatenate([s.k for s in sets]),
-        contact_clearance=np.concatenate([s.clearance for s in sets]),
-        contact_surface=np.concatenate([[s.surface] * s.nodes.size for s in sets]),
+        contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
+        contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
         spring_nodes=mesh.table.nodes,
         spring_dirs=np.stack([-np.sin(th), np.cos(th), np.zeros_like(th)], axis=1),
         spring_k=mesh.k_tangent,
@@ -78,6 +76,24 @@ def penalty_factor(model: Model, k_factor: float = 1.0, alpha: float | None = No
     return float(k_factor) * alpha / pen.alpha
 
 
+def solve_path(model: Model, system: rs.CondensedSystem, method: str, k_factor: float = 1.0, *,
+               lambda_max: float | None = None, liftoff_tol: float | None = None, algorithm: str | None = None,
+               on_increment: Callable[[int, int, float], None] | None = None,
+               recover: bool = True) -> rs.Solution:
+    """The one solve entry: step 1 N, step 2 N + lambda (T, M) up to ``lambda_max`` (default the
+    model's steps.lambda_max) in steps.increments, liftoff onset bisected on the table to
+    ``liftoff_tol`` (relative to lambda_max; default the solver's). ``k_factor`` is the final penalty
+    factor (see :func:`penalty_factor`); ``on_increment(step, increment, lambda)`` reports progress."""
+    kw = {} if liftoff_tol is None else {"liftoff_tol": liftoff_tol}
+    try:
+        return rs.solve_path(system, method, k_factor, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
+                             lambda_max=model.steps.lambda_max if lambda_max is None else lambda_max,
+                             increments=model.steps.increments, algorithm=algorithm, liftoff_surface="table",
+                             recover=recover, on_increment=on_increment, **kw)
+    except rs.ReferenceSolverError as exc:
+        raise DeckbridgeError(f"model {model.name!r}, method {method}: {exc}") from None
+
+
 def solve_system(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, method: str,
                  k_factor: float = 1.0, alpha: float | None = None, algorithm: str | None = None,
                  on_increment: Callable[[int, int, float], None] | None = None,
@@ -85,27 +101,29 @@ def solve_system(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, meth
     """Run the load path of ``model`` on an existing condensed system; (table, summary, solution)."""
     t0 = time.perf_counter()
     kf = penalty_factor(model, k_factor, alpha)
-    try:
-        sol = rs.solve_path(system, method, kf, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
-                            lambda_max=model.steps.lambda_max, increments=model.steps.increments,
-                            algorithm=algorithm, liftoff_surface="table", recover=recover,
-                            on_increment=on_increment)
-    except rs.ReferenceSolverError as exc:
-        raise DeckbridgeError(f"model {model.name!r}, method {method}: {exc}") from None
+    sol = solve_path(model, system, method, kf, algorithm=algorithm, on_increment=on_increment, recover=recover)
     df = contact_table(system.problem, mesh, sol)
     summary = make_summary(model, mesh, system, sol, df, kf)
     summary["wall_time_s"] = system.info.get("total_s", 0.0) + (time.perf_counter() - t0)
     return df, summary, sol
 
 
+def condense_timed(model: Model, k_factor: float = 1.0, alpha: float | None = None,
+                   mesh: SkirtMesh | None = None) -> tuple[SkirtMesh, rs.CondensedSystem, float]:
+    """Check the penalty options, then mesh and condense; (mesh, system, start time) with
+    ``system.info['total_s']`` the seconds so far (bad factors fail before any work)."""
+    t0 = time.perf_counter()
+    penalty_factor(model, k_factor, alpha)
+    mesh, system = condense_model(model, mesh)
+    system.info["total_s"] = time.perf_counter() - t0
+    return mesh, system, t0
+
+
 def solve_model(model: Model, method: str, k_factor: float = 1.0, alpha: float | None = None,
                 algorithm: str | None = None, on_increment=None, recover: bool = True,
                 ) -> tuple[pd.DataFrame, dict]:
     """Mesh, condense and solve ``model`` with ``method``; returns (tidy table, summary dict)."""
-    t0 = time.perf_counter()
-    penalty_factor(model, k_factor, alpha)       # bad factors fail before any work
-    mesh, system = condense_model(model)
-    system.info["total_s"] = time.perf_counter() - t0
+    mesh, system, _ = condense_timed(model, k_factor, alpha)
     df, summary, _ = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
                                   on_increment, recover)
     return df, summary
@@ -114,17 +132,14 @@ def solve_model(model: Model, method: str, k_factor: float = 1.0, alpha: float |
 def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFrame:
     """One row per (increment, contact row) in the tidy schema."""
     ni, nc = sol.sigma_n.shape
-    sets = [mesh.table] + ([mesh.stop] if mesh.stop is not None else [])
-    theta = np.concatenate([s.theta_deg for s in sets])
-    z = np.concatenate([s.z for s in sets])
-    r = np.concatenate([s.r for s in sets])
+    rows = mesh.contact_rows
     rep = lambda a: np.repeat(a, nc)  # noqa: E731
     til = lambda a: np.tile(a, ni)    # noqa: E731
     df = pd.DataFrame({
         "source": SOURCE, "method": sol.method, "step": rep(sol.step), "increment": rep(sol.increment),
         "load_factor": rep(sol.load_factor), "node": til(p.contact_nodes + 1),
-        "surface": til(p.contact_surface), "theta_deg": til(np.mod(theta, 360.0) % 360.0),
-        "z": til(z), "r": til(r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": sol.gap.ravel(),
+        "surface": til(p.contact_surface), "theta_deg": til(wrap_deg(rows.theta)),
+        "z": til(rows.z), "r": til(rows.r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": sol.gap.ravel(),
         "status": np.where(sol.closed.ravel(), "closed", "open"),
     })
     return conform(df)
@@ -146,20 +161,17 @@ def reactions(p: rs.Problem, sol: rs.Solution, row: int) -> tuple[np.ndarray, np
     return F, M
 
 
-def contact_row_theta(p: rs.Problem, row: int) -> float:
+def contact_row_theta(mesh: SkirtMesh, row: int) -> float:
     """Azimuth [deg, 0..360) of the node of contact row ``row``."""
-    x, y = p.nodes[p.contact_nodes[row], :2]
-    return float(azimuth_deg(x, y))
+    return float(mesh.contact_rows.theta[row])
 
 
 def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol: rs.Solution,
                  df: pd.DataFrame, k_factor: float) -> dict:
     p = system.problem
-    lift_theta = None if sol.liftoff_row is None else contact_row_theta(p, sol.liftoff_row)
+    lift_theta = None if sol.liftoff_row is None else contact_row_theta(mesh, sol.liftoff_row)
     ends = {s: int(np.flatnonzero(sol.step == s)[-1]) for s in (1, 2)}
     react = {str(s): reactions(p, sol, i) for s, i in ends.items()}
-    g = model.geometry
-    mb1 = model.base_moment
     pen = None
     if sol.method == "penalty":
         pen = {"k_factor": k_factor, "alpha": (model.contact.penalty.alpha * k_factor
@@ -172,7 +184,7 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
         "dofs": int(3 * p.n_nodes), "reduced_dofs": int(system.dofs),
         "condensed_dofs": int(system.info["retained"]), "contact_rows": int(p.n_contacts),
         "liftoff_load_factor": sol.liftoff_load_factor, "liftoff_theta_deg": lift_theta,
-        "liftoff_load_factor_beam_theory": (model.loads.N * g.radius / 2 / mb1) if mb1 > 0 else None,
+        "liftoff_load_factor_beam_theory": model.beam_theory_liftoff(),
         "min_sigma_n_pa": float(df["sigma_n_pa"].min()), "max_sigma_n_pa": float(df["sigma_n_pa"].max()),
         "reaction_force_n": {s: v[0].tolist() for s, v in react.items()},
         "reaction_moment_nm": {s: v[1].tolist() for s, v in react.items()},
@@ -223,10 +235,7 @@ def run_solve(model: Model, method: str, outdir: str | Path, k_factor: float = 1
               alpha: float | None = None, algorithm: str | None = None,
               on_increment=None) -> tuple[list[Path], dict]:
     """The ``deckbridge solve`` job: solve and write; returns (written paths, summary)."""
-    t0 = time.perf_counter()
-    penalty_factor(model, k_factor, alpha)
-    mesh, system = condense_model(model)
-    system.info["total_s"] = time.perf_counter() - t0
+    mesh, system, t0 = condense_timed(model, k_factor, alpha)
     df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
                                     on_increment, recover=model.outputs.vtu)
     summary["wall_time_s"] = time.perf_counter() - t0

@@ -103,19 +103,8 @@ def test_graph_sees_function_level_and_relative_imports():
     assert cycles({("a", "b"), ("b", "a"), ("b", "c")}) == [["a", "b"]]
 
 
-# Cycles in part B's files of issue 9 (compare/), removed on part B's branch: the lead deletes this
-# set and the xfail below at the merge.
-PART_B_EDGES = {("deckbridge.compare.series", "deckbridge.compare.align")}
-
-
 def test_no_import_cycle_between_modules_of_deckbridge():
-    assert cycles(edges() - PART_B_EDGES) == []
-
-
-@pytest.mark.xfail(strict=True, reason="part B: compare/series.py imports compare/align.py back")
-@pytest.mark.parametrize("edge", sorted(PART_B_EDGES))
-def test_part_b_edge_closes_no_cycle(edge):
-    assert not any(edge[0] in c and edge[1] in c for c in cycles(edges()))
+    assert cycles(edges()) == []
 
 
 def test_readers_never_import_render():

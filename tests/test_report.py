@@ -16,7 +16,8 @@ import pytest
 from PIL import Image
 
 from deckbridge.compare import compare_tables
-from deckbridge.report import global_metrics, write_report
+from deckbridge.readers.reference import global_metrics, read_source
+from deckbridge.report import write_report
 from deckbridge.results import COLUMNS, conform
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -59,8 +60,7 @@ def report(tmp_path, small_model):
                                                   "max_displacement_m": 2.5e-3}))
     (lag / "summary.json").write_text("{}")
     _write_vtu(pen / "result.vtu", small_model)
-    res = compare_tables([pd.read_csv(pen / "contact.csv").pipe(conform), pd.read_csv(lag / "contact.csv").pipe(conform)],
-                         origins=[pen, lag])
+    res = compare_tables([read_source(pen), read_source(lag)])
     out = tmp_path / "out"
     paths = write_report(res, out, model=small_model)
     return res, out, paths

@@ -104,3 +104,45 @@ def test_bad_input_ends_with_one_line_and_writes_nothing(tmp_path, args, message
     assert err.startswith("deckbridge: error:") and message in err, res.stderr
     assert "Traceback" not in res.output
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_contact_rows_are_the_solver_rows_and_cover_the_base():
+    """One contact-row table: the solver's rows in order (table, then stop), the table's tributary areas
+    summing to the annulus of the polygonal base, each row's azimuth that of its node."""
+    from deckbridge.solve import build_problem
+    m = load(None, ["mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=2"])
+    mesh = build_mesh(m)
+    rows, p = mesh.contact_rows, build_problem(m, mesh)
+    np.testing.assert_array_equal(p.contact_nodes, rows.nodes)
+    np.testing.assert_array_equal(p.contact_surface, rows.surface)
+    n_table = mesh.table.nodes.size
+    assert list(rows.surface[:n_table]) == ["table"] * n_table and set(rows.surface[n_table:]) == {"stop"}
+    g, n = m.geometry, m.mesh.n_theta
+    annulus = 0.5 * n * np.sin(2 * np.pi / n) * ((g.radius + g.thickness / 2) ** 2 - (g.radius - g.thickness / 2) ** 2)
+    assert rows.area[:n_table].sum() == pytest.approx(annulus, rel=1e-12)
+    xyz = mesh.nodes[rows.nodes]
+    np.testing.assert_allclose(rows.theta, np.degrees(np.arctan2(xyz[:, 1], xyz[:, 0])) % 360.0, atol=1e-9)
+
+
+def test_beam_theory_liftoff_is_n_r_over_twice_the_base_moment():
+    m = load(None, ["loads.N=2.0e6", "loads.M=1.0e6", "loads.T=1.0e5", "geometry.height=2.0"])
+    assert m.beam_theory_liftoff() == pytest.approx(2.0e6 * m.geometry.radius / (2 * (1.0e6 + 1.0e5 * 2.0)))
+    assert load(None, ["loads.M=0", "loads.T=0"]).beam_theory_liftoff() is None
+
+
+def test_run_builds_one_mesh_for_decks_and_solver(tmp_path, monkeypatch):
+    import deckbridge.job
+    import deckbridge.mesh
+    import deckbridge.render
+    import deckbridge.solve
+    calls = []
+    real = deckbridge.mesh.build_mesh
+    def counted(model):
+        calls.append(model.name)
+        return real(model)
+    for mod in (deckbridge.mesh, deckbridge.job, deckbridge.render, deckbridge.solve):
+        monkeypatch.setattr(mod, "build_mesh", counted)
+    deckbridge.job.run_job(load(None, ["mesh.n_theta=12", "mesh.n_z=3", "mesh.n_r=1", "steps.increments=2"]),
+                           tmp_path / "run", echo=lambda s: None)
+    assert len(calls) == 1
+    assert (tmp_path / "run" / "report.html").is_file()

@@ -10,6 +10,7 @@ from ..compare import compare_tables
 from ..errors import DeckbridgeError
 from ..model import load
 from ..readers import detect, formats, read
+from ..readers.reference import read_source
 from ..report import write_report
 from ._common import main
 
@@ -38,7 +39,7 @@ def compare_cmd(sources, outdir, model_path, overrides, load_factors, formats, s
     tables, inputs = [], {}
     for src, fmt in zip(sources, fmts):
         name = fmt or detect(src)
-        tables.append(read(src, fmt=name, model=model))
+        tables.append(read_source(src, model=model) if name == "reference" else read(src, fmt=name, model=model))
         inputs[src] = name
     result = compare_tables(tables, load_factors=list(load_factors) or None, origins=list(sources), surface=surface)
     shown = {s.label: f"{s.origin} ({inputs[s.origin]})" for s in result.series}

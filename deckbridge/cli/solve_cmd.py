@@ -1,12 +1,10 @@
 """``deckbridge solve``: run the reference solver on a model with the penalty or the Lagrange method."""
 
-import time
-
 import click
 from tqdm import tqdm
 
 from ..errors import DeckbridgeError
-from ..solve import condense_model, penalty_factor, solve_system, write_outputs
+from ..solve import run_solve
 from ._common import main, model_options
 
 
@@ -31,18 +29,12 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
     if method == "penalty" and algorithm is not None:
         raise DeckbridgeError(f"--algorithm = {algorithm!r}: only for --method lagrange")
     k_factor = 1.0 if k_factor is None else k_factor
-    t0 = time.perf_counter()
-    penalty_factor(model, k_factor, alpha)
-    mesh, system = condense_model(model)
-    system.info["total_s"] = time.perf_counter() - t0
     with tqdm(total=model.steps.increments + 2, desc=f"{method} increments", unit="inc", leave=False) as bar:
         def progress(step, inc, lam):
             bar.set_postfix_str(f"step {step} lambda {lam:.3g}")
             bar.update(1)
-        df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm, progress,
-                                        recover=model.outputs.vtu)
-    summary["wall_time_s"] = time.perf_counter() - t0
-    for p in write_outputs(outdir, model, system, sol, df, summary):
+        paths, summary = run_solve(model, method, outdir, k_factor, alpha, algorithm, on_increment=progress)
+    for p in paths:
         click.echo(f"wrote {p}")
     lf = summary["liftoff_load_factor"]
     click.echo(f"{method}: liftoff " + ("none" if lf is None else

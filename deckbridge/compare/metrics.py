@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .align import arc_weights
-from .series import Profile, Series
+from ..azimuth import arc_weights
+from .profile import Profile
+from .series import Series
 
 LIFT_RTOL = 1e-9
 ZONE_DECIMALS = 6

@@ -10,16 +10,18 @@ Pair differences are sigma_b - sigma_a, pairs taken in source order (a before b)
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
+from ..jsonable import json_clean
+from ..results import SourceResult
 from .align import align
 from .metrics import liftoff_load_factor, liftoff_zones, pair_metrics, peak_compression, zone_iou
-from .series import LAMBDA_TOL, Profile, Series, split_tables
+from .profile import LAMBDA_TOL, Profile
+from .series import Series, split_tables
 
 
 @dataclass
@@ -42,6 +44,11 @@ class ComparisonResult:
     series: list[Series]
     points: list[PointResult]
     liftoff: dict[str, float | None]
+    sources: dict[str, SourceResult] = field(default_factory=dict)   # label -> the record it came from
+
+    def source(self, label: str) -> SourceResult | None:
+        """The record a series came from (its globals, fields, solver summary), None if not given."""
+        return self.sources.get(label)
 
     @property
     def labels(self) -> list[str]:
@@ -80,7 +87,7 @@ class ComparisonResult:
                 "peak_compression_pa": None if peak is None else peak[0],
                 "peak_compression_theta_deg": None if peak is None else peak[1],
             }
-        return _clean({
+        return json_clean({
             "conventions": "sigma_n < 0 compression, > 0 tension/liftoff [Pa]; theta [deg] CCW from +x; "
                            "pair differences are sigma_b - sigma_a; liftoff zones [start, end] CCW, "
                            "start > end wraps through 0; overlap = intersection over union on the circle; "
@@ -98,22 +105,6 @@ class ComparisonResult:
                 "pairs": p.pairs,
             } for p in self.points],
         })
-
-
-def _clean(obj):
-    """Plain Python types for JSON; non-finite floats become None."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    return obj
 
 
 def _same(a: float, b: float) -> bool:
@@ -191,14 +182,24 @@ def compare_series(series: list[Series], load_factors: list[float] | None = None
     return ComparisonResult(series, points, liftoff)
 
 
-def compare_tables(tables: list[pd.DataFrame], load_factors=None, origins=None,
-                   surface: str = "table") -> ComparisonResult:
+def compare_tables(tables: list, load_factors=None, origins=None, surface: str = "table") -> ComparisonResult:
     """Compare tidy contact tables (one or more (source, method) each) on azimuth.
 
-    ``load_factors``: lambda values to compare at (default: see module doc); ``origins``: the file
-    or folder of each table (labels of equal sources get its folder name; the report reads global
-    results from reference folders); ``surface``: 'table' (vertical contact, liftoff) or 'stop'.
+    ``tables``: DataFrames or :class:`~deckbridge.results.SourceResult` records (their globals go to
+    the report); ``load_factors``: lambda values to compare at (default: see module doc); ``origins``:
+    the file or folder of each table (default: the records' own; labels of equal sources get its
+    folder name); ``surface``: 'table' (vertical contact, liftoff) or 'stop'.
     """
     if isinstance(load_factors, (int, float)):
         load_factors = [float(load_factors)]
-    return compare_series(split_tables(list(tables), origins, surface), load_factors)
+    tables = list(tables)
+    origins = list(origins) if origins is not None else [getattr(t, "origin", None) for t in tables]
+    if len(origins) != len(tables):
+        raise ValueError("origins must match tables one to one")
+    records = [SourceResult.wrap(t, o) for t, o in zip(tables, origins)]
+    result = compare_series(split_tables([r.table for r in records], origins, surface), load_factors)
+    by_origin = {}
+    for r in records:
+        by_origin.setdefault(r.origin, r)
+    result.sources = {s.label: by_origin[s.origin] for s in result.series if s.origin in by_origin}
+    return result

@@ -15,32 +15,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..azimuth import THETA_DECIMALS, snap_deg
 from ..errors import DeckbridgeError
 from ..results import ResultsError, conform
-
-THETA_DECIMALS = 6          # azimuths equal to 1e-6 deg are the same azimuth
-LAMBDA_TOL = 1e-9           # load factors equal within this (relative to max(1, |lambda|)) are the same
+from .profile import LAMBDA_TOL, Profile  # noqa: F401 (LAMBDA_TOL re-exported)
 
 
 class LoadFactorError(DeckbridgeError):
     """A requested load factor outside a source's load path."""
-
-
-@dataclass(frozen=True)
-class Profile:
-    """sigma_N along the azimuth: theta [deg] sorted in [0, 360), sigma [Pa] (< 0 compression), all_open."""
-    theta: np.ndarray
-    sigma: np.ndarray
-    all_open: np.ndarray
-
-    def resample(self, theta: np.ndarray) -> "Profile":
-        """This profile at other azimuths: periodic linear interpolation (identity on its own azimuths)."""
-        if self.theta.shape == theta.shape and np.array_equal(self.theta, theta):
-            return self
-        from .align import periodic_interp
-        own = {t: o for t, o in zip(self.theta, self.all_open)}
-        return Profile(theta, periodic_interp(self.theta, self.sigma, theta),
-                       np.array([own.get(t, False) for t in theta], bool))
 
 
 @dataclass(frozen=True)
@@ -102,7 +84,7 @@ class Series:
 
 def profile_of(rows: pd.DataFrame) -> Profile:
     """Per-azimuth mean sigma_N and all-open flag of the rows of one state."""
-    th = np.round(rows["theta_deg"].to_numpy(float), THETA_DECIMALS) % 360.0
+    th = snap_deg(rows["theta_deg"].to_numpy(float))
     g = pd.DataFrame({"t": th, "s": rows["sigma_n_pa"].to_numpy(float),
                       "o": (rows["status"].to_numpy() == "open")}).groupby("t", sort=True)
     return Profile(g["s"].mean().index.to_numpy(float), g["s"].mean().to_numpy(float), g["o"].all().to_numpy(bool))

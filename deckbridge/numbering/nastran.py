@@ -98,7 +98,7 @@ def clean_xyz(xyz: np.ndarray) -> np.ndarray:
 def gap_layout(mesh: SkirtMesh) -> GapLayout:
     """Contact elements of ``mesh`` with their ids, grounded nodes and properties."""
     num = numbering(mesh)
-    sets = [mesh.table] + ([mesh.stop] if mesh.stop is not None else [])
+    sets = mesh.slave_sets
     kt_of_node = dict(zip(mesh.table.nodes.tolist(), mesh.k_tangent.tolist()))
     d = ground_distance(mesh)
     cols: dict[str, list] = {k: [] for k in ("node", "surface", "axis", "k", "k_t", "u0", "area",

@@ -12,7 +12,8 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
-from ..mesh import azimuth_deg, build_mesh
+from ..azimuth import azimuth_deg
+from ..mesh import build_mesh
 from ..model import Model
 from ..numbering.skirt import node_ids, node_index
 

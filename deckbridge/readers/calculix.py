@@ -93,7 +93,7 @@ class Slaves:
 
 def _slaves_from_model(model) -> Slaves:
     mesh = build_mesh(model)
-    sets = [s for s in (mesh.table, mesh.stop) if s is not None]
+    sets = mesh.slave_sets
     cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
     return Slaves(node=cat(lambda s: node_ids(s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
                   theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),

@@ -34,7 +34,8 @@ import pandas as pd
 
 from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
-from ..mesh import azimuth_deg, build_mesh
+from ..azimuth import azimuth_deg
+from ..mesh import build_mesh
 from ..model import Model
 from ..numbering.nastran import gap_layout
 from ._registry import register

@@ -1,9 +1,11 @@
 """Report of a comparison: report.html (self-contained), sigma_n.png, discrepancy.csv, summary.json.
 
-``write_report(result, outdir, model=None, extra=None)`` writes the four files atomically.
-``extra`` (optional dict): 'inputs' {label: text shown as the input}, 'global' {label: {
-'max_von_mises_pa', 'max_displacement_m', 'from'}} (default: read beside each source's origin,
-see :mod:`.globals`), 'notes' [lines added to the report].
+``write_report(result, outdir, model=None, extra=None)`` writes the four files atomically. The report
+reads no input file: it draws what the comparison's source records carry
+(:class:`deckbridge.results.SourceResult`: global figures and fields, see
+:func:`deckbridge.readers.reference.read_source`). ``extra`` (optional dict): 'inputs' {label: text
+shown as the input}, 'global' {label: {'max_von_mises_pa', 'max_displacement_m', 'from'}} (replaces
+the records' figures), 'notes' [lines added to the report].
 """
 
 from __future__ import annotations
@@ -11,28 +13,29 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..compare.result import ComparisonResult, _clean
+from ..compare.result import ComparisonResult
+from ..jsonable import json_clean
 from ..outdir import staged
 from .figures import global_figure, png_bytes, sigma_n_figure
-from .globals import fields, global_metrics
 from .html import render
 
-__all__ = ["write_report", "global_metrics", "sigma_n_figure"]
+__all__ = ["write_report", "sigma_n_figure"]
 
 
 def write_report(result: ComparisonResult, outdir, model=None, extra: dict | None = None) -> list[Path]:
     """Write report.html, sigma_n.png, discrepancy.csv and summary.json into ``outdir``; return their paths."""
     extra = dict(extra or {})
     glob = dict(extra.get("global") or {})
+    records = {s.label: result.source(s.label) for s in result.series}
     for s in result.series:
         if s.label not in glob:
-            glob[s.label] = global_metrics(s.origin, s.method)
+            glob[s.label] = {} if records[s.label] is None else records[s.label].globals_for(s.method)
     figures = [png_bytes(sigma_n_figure(pt, result.labels)) for pt in result.points]
-    gfig = global_figure({s.label: fields(s.origin) for s in result.series}, result.labels)
+    gfig = global_figure({lab: r and r.fields for lab, r in records.items()}, result.labels)
     text = render(result, figures, model=model, glob=glob, inputs=extra.get("inputs"), notes=extra.get("notes"),
                   global_png=None if gfig is None else png_bytes(gfig))
     summary = result.summary()
-    summary["global"] = _clean({lab: glob.get(lab) or None for lab in result.labels})
+    summary["global"] = json_clean({lab: glob.get(lab) or None for lab in result.labels})
     summary["model"] = None if model is None else model.to_dict()
     names = ["report.html", "sigma_n.png", "discrepancy.csv", "summary.json"]
     with staged(outdir) as stage:

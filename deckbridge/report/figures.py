@@ -13,8 +13,8 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
+from ..azimuth import azimuth_deg
 from ..compare.metrics import zone_intervals
-from ..mesh import azimuth_deg
 from ..compare.result import PointResult
 
 _MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
@@ -25,6 +25,14 @@ def colours(labels: list[str]) -> dict[str, str]:
     cycle = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
              "#bcbd22", "#17becf"]
     return {lab: cycle[i % len(cycle)] for i, lab in enumerate(labels)}
+
+
+def _azimuth_axis(ax) -> None:
+    """x: azimuth 0..360 deg, ticks every 30 deg; a black zero line (liftoff / no displacement)."""
+    ax.axhline(0.0, color="black", lw=0.8)
+    ax.set_xlim(0.0, 360.0)
+    ax.set_xticks(np.arange(0, 361, 30))
+    ax.set_xlabel("azimuth θ [deg]")
 
 
 def sigma_n_figure(point: PointResult, labels: list[str], title: str | None = None) -> Figure:
@@ -53,10 +61,7 @@ def sigma_n_figure(point: PointResult, labels: list[str], title: str | None = No
         if spans:   # a bar per source along the top tells overlapping zones apart
             ax.broken_barh(spans, (0.99 - 0.035 * (k + 1), 0.025), transform=ax.get_xaxis_transform(),
                            color=col[lab], lw=0)
-    ax.axhline(0.0, color="black", lw=0.8)
-    ax.set_xlim(0.0, 360.0)
-    ax.set_xticks(np.arange(0, 361, 30))
-    ax.set_xlabel("azimuth θ [deg]")
+    _azimuth_axis(ax)
     ax.set_ylabel("σN [MPa]  (< 0 compression, > 0 liftoff)")
     ax.grid(True, lw=0.4, alpha=0.6)
     ax.set_title(title or f"σN at the base vs azimuth, λ = {point.load_factor:.4g} ({point.what})", fontsize=10)
@@ -76,7 +81,7 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
     """Global level (cf. the paper's FIG. 3): von Mises on the unrolled wall (theta, z) per source, and
     the vertical displacement of the base ring vs azimuth (its deformed shape), one curve per source.
 
-    ``fields``: label -> :func:`deckbridge.report.globals.fields` output. None when nothing to draw.
+    ``fields``: label -> :func:`deckbridge.readers.reference.fields` output (a record's ``fields``). None when nothing to draw.
     """
     vm_src = [lab for lab in labels if fields.get(lab) and fields[lab]["vm"] is not None][:4]
     u_src = [lab for lab in labels if fields.get(lab) and fields[lab]["u"] is not None]
@@ -123,10 +128,7 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
                   / np.bincount(np.unique(th, return_inverse=True)[1]))
             t1 = np.unique(th)
             ax.plot(np.append(t1, t1[0] + 360.0), np.append(uz, uz[0]) * 1e3, color=col[lab], lw=1.5, label=lab)
-        ax.axhline(0.0, color="black", lw=0.8)
-        ax.set_xlim(0, 360)
-        ax.set_xticks(np.arange(0, 361, 30))
-        ax.set_xlabel("azimuth θ [deg]")
+        _azimuth_axis(ax)
         ax.set_ylabel("u_z at the base [mm]")
         ax.set_title("deformed shape: vertical displacement of the base ring (> 0 lifts)", fontsize=9)
         ax.grid(True, lw=0.4, alpha=0.6)

@@ -9,15 +9,13 @@ overlap, peak compression and liftoff load factor, Lagrange drawn as horizontal 
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, version
-
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from .figures import png_bytes, sigma_n_figure
-from .html import _CSS, _SCRIPT, esc, fmt, img, model_rows, mpa, table, zones_text
+from .html import deckbridge_version, env, fmt, model_rows, mpa, source_rows
 
 FIGURE_BELOW = 0.1       # no sigma_N figure where every k is within 10 % of the tolerance of Lagrange
 _MESH_COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
@@ -75,16 +73,8 @@ def metrics_figure(summary: dict) -> Figure:
     return fig
 
 
-def _headline(summary: dict) -> str:
-    rec = summary["recommended_k_factor"]
-    if rec is not None:
-        return (f"<p><b>Recommended penalty: k-factor {rec:g}</b> ({esc(summary['recommended_k_factor_note'])}; "
-                f"tol = {summary['tol'] * 100:g} %).</p>")
-    return (f"<p><b>No recommended penalty</b>: {esc(summary['recommended_k_factor_note'])} "
-            f"(tol = {summary['tol'] * 100:g} %).</p>")
-
-
-def _mesh_table(m: dict) -> str:
+def _mesh_rows(m: dict) -> list[list[str]]:
+    """The per-case rows of one mesh's table (plain text)."""
     lag = m["lagrange"]
     rows = []
     if not lag.get("error"):
@@ -93,15 +83,23 @@ def _mesh_table(m: dict) -> str:
                      mpa(lag.get("max_tension_pa")), fmt(lag.get("liftoff_load_factor")), "reference"])
     for d in m["penalty"]:
         if d.get("error"):
-            rows.append([f"penalty k = {d['k_factor']:g}"] + ["–"] * 8 + [esc(d["error"])])
+            rows.append([f"penalty k = {d['k_factor']:g}"] + ["–"] * 8 + [d["error"]])
             continue
         rows.append([f"penalty k = {d['k_factor']:g}", mpa(d["max_abs_diff_pa"]), f"{d['max_rel_diff'] * 100:.2f}",
                      fmt(d["worst_load_factor"]), f"{d['liftoff_zone_iou']:.3f}", mpa(d["peak_compression_pa"]),
                      mpa(d["node_peak_compression_pa"]), mpa(d["max_tension_pa"]), fmt(d["liftoff_load_factor"]),
                      "yes" if d["within_tol"] else "no"])
-    head = ["case", "max |ΔσN| [MPa]", "/ Lagrange peak [%]", "at λ", "zone IoU at λ_max",
-            "peak σN at λ_max [MPa]", "node peak σN, path [MPa]", "max tension [MPa]", "liftoff λ", "within tol"]
-    return table(head, rows)
+    return rows
+
+
+def _point_rows(pt) -> list[list[str]]:
+    """Per case at one load factor: zones, peak, and the difference / zone IoU against Lagrange."""
+    lab = pt.labels[0]
+    rows = []
+    for x, base in zip(pt.labels, source_rows(pt, pt.labels)):
+        p = next((q for q in pt.pairs if q["a"] == lab and q["b"] == x), None)
+        rows.append(base + (["–", "–"] if x == lab else [mpa(p["max_abs_diff_pa"]), f"{p['liftoff_zone_overlap']:.3f}"]))
+    return rows
 
 
 def metrics_png(summary: dict) -> bytes:
@@ -125,61 +123,19 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None) -> str:
                 jobs.append((sigma_png, (pt, r.comparison.labels,
                                          f"mesh {m['mesh']}: σN vs azimuth, λ = {pt.load_factor:.4g} ({pt.what})")))
     pngs = iter(list(mapper(_call, jobs)) if mapper is not None else [_call(j) for j in jobs])
-    try:
-        ver = version("deckbridge")
-    except PackageNotFoundError:
-        ver = "dev"
-    out = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
-           "<title>deckbridge: penalty sensitivity sweep</title>", f"<style>{_CSS}</style>",
-           f"<script>{_SCRIPT}</script></head><body>",
-           "<h1>Penalty sensitivity: σN at the base for every k-factor against Lagrange</h1>",
-           f"<p class='note'>deckbridge {esc(ver)}. σN &lt; 0 compression, &gt; 0 tension / liftoff; azimuth θ "
-           "in degrees counter-clockwise from +x. Differences are σN(penalty) − σN(Lagrange). Penalty: "
-           f"{esc(summary['penalty_rule'])}.</p>", _headline(summary)]
-    out.append(img(next(pngs), "sweep metrics against the k-factor"))
+    metrics = next(pngs)
+    meshes = []
     for m, r in zip(summary["meshes"], results):
-        out.append(f"<h2>Mesh {esc(m['mesh'])} (θ × z × r): recommended k-factor "
-                   f"{esc(fmt(m['recommended_k_factor'], 'g'))}</h2>")
-        out.append(_mesh_table(m))
-        mono = m.get("max_rel_diff_never_grows_with_k")
-        out.append("<p>max |ΔσN| against Lagrange " + ("never grows as k grows." if mono else
-                   "<b>grows again</b> past some k (see the max tension column: open penalty gaps carry "
-                   "k_open × gap, a tension Lagrange never has).") + "</p>")
-        if r.comparison is None:
-            out.append("<p class='note'>No Lagrange reference on this mesh: nothing compared.</p>")
-            continue
-        for pt in r.comparison.points:
-            out.append(f"<h3>λ = {pt.load_factor:.4g}: {esc(pt.what)}</h3>")
-            if _drawn(pt, summary["tol"]):
-                out.append(img(next(pngs), f"sigma_N vs azimuth, mesh {m['mesh']}, load factor {pt.load_factor:.4g}"))
-            else:
-                out.append(f"<p class='note'>Every k-factor gives the Lagrange curve here, within "
-                           f"{FIGURE_BELOW * 100:g} % of the tolerance (table below): no figure.</p>")
-            lab = r.comparison.labels[0]
-            rows = [[esc(x), zones_text(pt.zones[x]), mpa(pt.peaks[x][0]), f"{pt.peaks[x][1]:.1f}"]
-                    + (["–", "–"] if x == lab else
-                       [mpa(p["max_abs_diff_pa"]), f"{p['liftoff_zone_overlap']:.3f}"])
-                    for x in pt.labels
-                    for p in [next((q for q in pt.pairs if q["a"] == lab and q["b"] == x), None)]]
-            out.append(table(["case", "liftoff zones [deg]", "peak compression σN [MPa]", "at θ [deg]",
-                              "max |ΔσN| vs Lagrange [MPa]", "zone IoU"], rows))
-    if model is not None:
-        out.append("<h2>Model</h2>")
-        out.append(table(["quantity", "value"], [[esc(k), esc(v)] for k, v in model_rows(model)], left=2))
-    out.append("<h2>Definitions</h2><ul class='note'>"
-               "<li>σN at an azimuth: mean over the table slave nodes at that azimuth (through the wall); the "
-               "'node peak' column is the most compressive single node over the whole load path.</li>"
-               "<li>Compared load factors: end of step 1, first liftoff of any case, end of step 2 (or those "
-               "requested); every k is compared with Lagrange on the same mesh at the same λ.</li>"
-               "<li>max |ΔσN| / Lagrange peak: at each compared λ, over the Lagrange peak compression at that λ; "
-               "the worst over λ is shown. A k-factor is within tol when that ratio ≤ tol at every λ; the "
-               "recommended k-factor is the smallest such k.</li>"
-               "<li>Zone IoU: length of the intersection over the union of the liftoff zones on the circle "
-               "(1 when neither lifts off).</li>"
-               "<li>Liftoff λ: onset at the first table slave node (gap opens), bisected by the solver.</li>"
-               "<li>Max tension: penalty open gaps carry k_open × gap, a tension Lagrange never has.</li></ul>")
-    out.append("</body></html>")
-    return "\n".join(out)
+        points = None if r.comparison is None else [
+            {"load_factor": pt.load_factor, "what": pt.what, "rows": _point_rows(pt),
+             "png": next(pngs) if _drawn(pt, summary["tol"]) else None} for pt in r.comparison.points]
+        meshes.append({"label": m["mesh"], "recommended": fmt(m["recommended_k_factor"], "g"), "rows": _mesh_rows(m),
+                       "monotone": m.get("max_rel_diff_never_grows_with_k"), "points": points})
+    return env().get_template("sweep.html.j2").render(
+        ver=deckbridge_version(), penalty_rule=summary["penalty_rule"], recommended=summary["recommended_k_factor"],
+        recommended_note=summary["recommended_k_factor_note"], tol_pct=summary["tol"] * 100, metrics_png=metrics,
+        meshes=meshes, figure_below_pct=FIGURE_BELOW * 100,
+        model_rows=None if model is None else model_rows(model))
 
 
 def _drawn(pt, tol: float) -> bool:

@@ -12,40 +12,29 @@ from __future__ import annotations
 
 import math
 
-import reference_solver as rs
-
 from ..errors import DeckbridgeError
 from ..model import Model
-from ..solve import condense_model, contact_row_theta, penalty_factor
+from ..solve import condense_model, contact_row_theta, penalty_factor, solve_path
 from .tasks import one_blas_thread
 
 EXPAND = 100.0          # search up to this many times steps.lambda_max
 METHODS = ("penalty", "lagrange")
 
 
-def _theta(system, row: int) -> float:
-    return contact_row_theta(system.problem, row)
-
-
-def _one(model: Model, system, method: str, tol: float, k_factor: float) -> dict:
+def _one(model: Model, mesh, system, method: str, tol: float, k_factor: float) -> dict:
     lam_max = model.steps.lambda_max
     top = EXPAND * lam_max
     hi = lam_max
     tried = []
     while True:
-        try:
-            sol = rs.solve_path(system, method, k_factor, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
-                                lambda_max=hi, increments=model.steps.increments, liftoff_surface="table",
-                                liftoff_tol=tol / hi, recover=False)
-        except rs.ReferenceSolverError as exc:
-            raise DeckbridgeError(f"model {model.name!r}, {method}: {exc}") from None
+        sol = solve_path(model, system, method, k_factor, lambda_max=hi, liftoff_tol=tol / hi, recover=False)
         tried.append(hi)
         if sol.liftoff_load_factor is not None or hi >= top:
             break
         hi = min(2.0 * hi, top)
     lam = sol.liftoff_load_factor
     out = {"method": method, "k_factor": k_factor if method == "penalty" else None,
-           "lambda_c": lam, "theta_deg": None if lam is None else _theta(system, sol.liftoff_row),
+           "lambda_c": lam, "theta_deg": None if lam is None else contact_row_theta(mesh, sol.liftoff_row),
            "bracket": None if lam is None else [max(0.0, lam - tol), lam],
            "tol": tol, "searched_up_to": hi, "expanded": hi > lam_max, "lambda_max": lam_max,
            "base_moment_at_lambda_c_nm": None if lam is None else lam * model.base_moment}
@@ -71,13 +60,11 @@ def critical_load(model: Model, methods: tuple[str, ...] | list[str] = METHODS, 
         if m not in METHODS:
             raise DeckbridgeError(f"--method = {m!r}: must be penalty, lagrange or both")
     kf = penalty_factor(model, k_factor)
-    _, system = condense_model(model)
+    mesh, system = condense_model(model)
     with one_blas_thread():
-        res = {m: _one(model, system, m, tol, kf) for m in methods}
-    g = model.geometry
+        res = {m: _one(model, mesh, system, m, tol, kf) for m in methods}
     out = {"model": model.name, "load_introduction": model.load_introduction, "tol": tol,
-           "beam_theory_lambda_c": (model.loads.N * g.radius / 2 / model.base_moment
-                                    if model.base_moment > 0 else None),
+           "beam_theory_lambda_c": model.beam_theory_liftoff(),
            "base_moment_nm_at_lambda_1": model.base_moment, "methods": list(methods), **res}
     if len(methods) == 2:
         a, b = (res[m]["lambda_c"] for m in METHODS)

@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from ..compare import ComparisonResult, compare_series
+from ..jsonable import json_clean
 from ..compare.series import series_of
 from .cases import Case, MeshVariant
 
@@ -33,18 +34,7 @@ SIG_DIGITS = 10        # floats in summary.json: stable across re-runs, far belo
 
 def rnd(x):
     """Round floats to SIG_DIGITS significant digits (recursively); non-finite -> None."""
-    if isinstance(x, dict):
-        return {str(k): rnd(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [rnd(v) for v in x]
-    if isinstance(x, (bool, np.bool_)):
-        return bool(x)
-    if isinstance(x, (int, np.integer)):
-        return int(x)
-    if isinstance(x, (float, np.floating)):
-        v = float(x)
-        return float(f"{v:.{SIG_DIGITS}g}") if math.isfinite(v) else None
-    return x
+    return json_clean(x, SIG_DIGITS)
 
 
 @dataclass

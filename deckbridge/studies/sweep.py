@@ -244,8 +244,7 @@ def make_summary(model: Model, variants, results: list[VariantResult], k_factors
             if rec is not None else
             f"no k-factor of the sweep is within {tol:g} x |Lagrange peak compression| of Lagrange at every "
             "compared load factor" + (" on every mesh" if len(results) > 1 else "")),
-        "beam_theory_liftoff_load_factor": (model.loads.N * model.geometry.radius / 2 / model.base_moment
-                                            if model.base_moment > 0 else None),
+        "beam_theory_liftoff_load_factor": model.beam_theory_liftoff(),
         "meshes": meshes,
         "model_definition": model.to_dict(),
     })
