@@ -168,7 +168,7 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
     Same columns as :func:`model_contact_map` with area = 1 (so sigma_n is a force [N]); lengths
     converted to metres by the deck's units line (SI without one).
     """
-    length = scale(deck_units(deck) or "SI").length
+    unit_length = scale(deck_units(deck) or "SI").length   # deck length per metre
     try:
         from pyNastran.bdf.bdf import read_bdf
         bdf = read_bdf(str(deck), xref=False, debug=None, validate=False)
@@ -187,7 +187,7 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
         if el.type == "CGAP":
             a, b = xyz(el.ga), xyz(el.gb)
             prop = bdf.properties.get(el.pid)
-            u0 = float(prop.u0) / length if prop is not None and prop.u0 is not None else 0.0
+            u0 = float(prop.u0) / unit_length if prop is not None and prop.u0 is not None else 0.0
             comp = None
         elif el.type == "CELAS2" and el.c1 in (1, 3) and el.nodes[0]:
             a, b = xyz(el.nodes[0]), xyz(el.nodes[1])
@@ -203,7 +203,7 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
         if comp == 1 and np.isfinite(length) and length > 0:
             sign = float(np.sign(-(axis[0] * np.cos(np.radians(th)) + axis[1] * np.sin(np.radians(th))))) or 1.0
         rows[eid] = (int(el.ga if comp is None else el.nodes[0]), surface, th,
-                     float(np.hypot(a[0], a[1])) / length, float(a[2]) / length, 1.0, u0, sign)
+                     float(np.hypot(a[0], a[1])) / unit_length, float(a[2]) / unit_length, 1.0, u0, sign)
     if not rows:
         raise DeckbridgeError(f"{str(deck)!r}: no CGAP or contact CELAS2 elements to map")
     df = pd.DataFrame.from_dict(rows, orient="index",
