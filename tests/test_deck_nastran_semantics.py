@@ -205,3 +205,16 @@ def test_one_tangential_mechanism(tmp_path):
     bdf = _read(write(springs, build_mesh(springs), tmp_path)[0])
     assert bdf.card_count["CELAS2"] == mesh.table.nodes.size
     assert all(p.kt == 0.0 for p in bdf.properties.values() if p.type == "PGAP")
+
+
+def test_header_states_ka_over_element_stiffness(deck):
+    """Table: KA/(E A/h) = alpha K / E = alpha / (3 (1 - 2 nu)) (closed form, uniform cylinder)."""
+    import re
+
+    model, path = deck[0], deck[2]
+    text = path.read_text()
+    m = re.search(r"^\$   table \((\d+) nodes\): KA = .* N/m; KA/\(E A/L\) = ([0-9.e+-]+)$", text, re.M)
+    assert m and int(m.group(1)) == (N_R + 1) * N_T
+    expected = model.contact.penalty.alpha / (3 * (1 - 2 * model.material.nu))
+    assert float(m.group(2)) == pytest.approx(expected, rel=1e-3)
+    assert "$ deckbridge-units: SI" in text and "PARAM,LGDISP,-1" in text

@@ -51,6 +51,7 @@ def context(model: Model, mesh: SkirtMesh) -> dict:
         "penalty_rule": (f"KA = contact.penalty.k_normal = {pen.k_normal:g} N/m (explicit)" if pen.k_normal
                          else f"KA = k_c = alpha A K / h, alpha = {pen.alpha:g}, K = E / (3 (1 - 2 nu))"),
         "surfaces": surfaces, "open_ratio": f"{mesh.k_open_ratio:g}",
+        "below_guidance": f"{1e3 / float(np.median(ratio)):.0e}",
         "nlgeom": model.analysis.nlgeom, "n_top": int(mesh.top_nodes.size),
         "stress_set": SET_BOTTOM_ROW, "stress_first": int(rows[0]), "stress_last": int(rows[-1]),
         "n_stress": int(rows.size),
