@@ -58,6 +58,12 @@ def staged(outdir: str | Path) -> Iterator[Path]:
         shutil.rmtree(stage, ignore_errors=True)
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def write_text(path: str | Path, text: str) -> Path:
     """Write one file atomically (temporary file in the same folder, then rename)."""
     p = Path(path)
@@ -65,6 +71,7 @@ def write_text(path: str | Path, text: str) -> Path:
     try:
         with os.fdopen(fd, "w") as fh:
             fh.write(text)
+        os.chmod(tmp, 0o666 & ~_umask())   # mkstemp makes 0600: give the mode a plain open() would
         os.replace(tmp, p)
     except BaseException:
         with contextlib.suppress(OSError):

@@ -99,7 +99,8 @@ def test_gap_count_penalties_axes(deck):
         assert p.ka == pytest.approx(k_expected, rel=1e-10)
         assert p.kb == pytest.approx(1.0e-5 * k_expected, rel=1e-10)
         assert (p.u0, p.f0, p.tmax) == (0.0, 0.0, 0.0)
-        assert p.kt == 3.0e7 and p.mu1 == p.mu2 == 0.15
+        # the circumferential CELAS2 carry T: KT = 0 (one tangential mechanism), MU from the model
+        assert p.kt == 0.0 and p.mu1 == p.mu2 == 0.15
         seen[key] += 1
     assert seen == {"table_inner": N_T, "table_outer": N_T, "stop": N_T}
 
@@ -165,15 +166,38 @@ def _check_chexa(model, mesh, bdf):
     assert total == pytest.approx(vol, rel=1e-9)
     mat = bdf.materials[1]
     assert (mat.e, mat.nu) == (model.material.E, model.material.nu)
-    assert mat.g == pytest.approx(model.material.E / (2 * (1 + model.material.nu)), rel=1e-12)
 
 
 def _check_cgap(model, mesh, bdf):
+    """X1-X3 are components in GA's displacement system CD: transformed to basic with pyNastran's
+    own cylindrical rotation at GA's azimuth, every vector is unit, perpendicular to the gap axis,
+    and radial for the vertical (table) gaps."""
+    n = 0
     for e in (e for e in bdf.elements.values() if e.type == "CGAP"):
-        x = np.asarray(e.x, float)
-        axis = e.gb_ref.get_position() - e.ga_ref.get_position()
-        assert abs(np.dot(x, axis)) < 1e-12 and np.linalg.norm(x) == pytest.approx(1.0)
+        x_basic = _cd_vector_to_basic(e.ga_ref, np.asarray(e.x, float))
+        pa = e.ga_ref.get_position()
+        axis = e.gb_ref.get_position() - pa
+        assert abs(np.dot(x_basic, axis)) < 1e-12 * np.linalg.norm(axis)
+        assert np.linalg.norm(x_basic) == pytest.approx(1.0, rel=1e-12)
+        if abs(axis[2]) > 0.5 * np.linalg.norm(axis):      # table gap: radial
+            radial = np.array([pa[0], pa[1], 0.0]) / math.hypot(pa[0], pa[1])
+            np.testing.assert_allclose(x_basic, radial, atol=1e-12)
+            n += 1
         assert e.pid == e.eid and e.cid is None
+    assert n == mesh.table.nodes.size
+
+
+def _cd_vector_to_basic(grid, v):
+    """Components ``v`` in the grid's displacement system -> basic (pyNastran's coords and rotation)."""
+    from pyNastran.femutils.coord_transforms import cylindrical_rotation_matrix
+
+    cd = grid.cd_ref
+    if cd.type == "CORD2R" or cd.cid == 0:
+        return v @ cd.beta()
+    assert cd.type == "CORD2C"
+    theta = np.radians(cd.xyz_to_coord(grid.get_position())[1])
+    rot = cylindrical_rotation_matrix(np.array([theta]), dtype="float64")[0]
+    return (rot @ v) @ cd.beta()     # as pyNastran transforms CD displacements (dot_n33_n3)
 
 
 def _check_pgap(model, mesh, bdf):
@@ -204,7 +228,7 @@ def _check_celas2(model, mesh, bdf):
     springs = [e for e in bdf.elements.values() if e.type == "CELAS2"]
     assert len(springs) == mesh.table.nodes.size
     for e in springs:
-        assert e.k == 3.0e7 and e.c1 == 2 and e.nodes[1] is None       # theta, grounded
+        assert e.k == 3.0e7 and e.c1 == 2 and e.nodes[1] is None and e.c2 == 0   # theta, grounded
         assert e.nodes_ref[0].cd == 1 and e.nodes_ref[0].get_position()[2] == 0.0
 
 
@@ -278,3 +302,4 @@ def test_title_cannot_inject_cards(tmp_path):
     lines = text.splitlines()
     assert not any(line.startswith("GRID,") for line in lines)
     assert sum(line.startswith("BEGIN BULK") for line in lines) == 1
+

@@ -142,3 +142,27 @@ def test_failure_is_one_line(tmp_path):
     msg = str(exc.value)
     assert "\n" not in msg and "bad.bdf" in msg and "MYSTRAN failed" in msg
     assert not list(tmp_path.glob("bad.L1?"))
+
+
+def test_mm_and_si_decks_give_the_same_results(stop_run, tmp_path):
+    """The same model written in N, mm, MPa and run by MYSTRAN: after reading back (by the deck's
+    units line) sigma_N, gaps, node positions and every spring reaction equal the SI run's to 1e-6."""
+    model, mesh, f06_si = stop_run
+    mm_model, _, f06_mm = _run(STOP + ["units=mm"], tmp_path)
+    assert mm_model.units == "mm" and "$ deckbridge-units: mm" in (tmp_path / "JAR_mystran.bdf").read_text()
+    for m in (model, None):
+        a, b = read(f06_si, model=m), read(f06_mm, model=mm_model if m is not None else None)
+        assert len(a) == len(b) == len(gap_layout(mesh))
+        for col in ("sigma_n_pa", "gap_m", "r", "z", "theta_deg"):
+            x, y = a[col].to_numpy(float), b[col].to_numpy(float)
+            if np.isnan(x).all():
+                assert np.isnan(y).all()
+                continue
+            np.testing.assert_allclose(y, x, rtol=0, atol=1e-6 * max(np.abs(x).max(), 1e-300), err_msg=col)
+    bare = read(f06_mm)                 # positions from the mm deck beside the F06, in metres
+    lay = gap_layout(mesh)
+    np.testing.assert_allclose(bare["r"], lay.r, rtol=1e-12)
+    np.testing.assert_allclose(bare["z"], lay.z, atol=1e-12)
+    ra = read_spring_forces(f06_si).set_index("element")["force_n"]
+    rb = read_spring_forces(f06_mm).set_index("element")["force_n"]    # N in both systems
+    np.testing.assert_allclose(rb.loc[ra.index], ra, rtol=0, atol=1e-6 * ra.abs().max())

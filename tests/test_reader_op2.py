@@ -131,3 +131,21 @@ def test_tidy_with_model_areas_and_load_factors():
     np.testing.assert_allclose(df["load_factor"], [0.0, 0.8, 0.8])
     np.testing.assert_allclose(df["gap_m"], [-1e-6, -2e-6, 3e-6])
     assert df["status"].tolist() == ["closed", "closed", "open"]
+
+
+def test_deck_units_line_converts_the_deck_map_to_si(tmp_path):
+    """A deck written in mm says so in its header; the element map read from it is in metres and
+    equals the model's map (areas aside)."""
+    from deckbridge.readers.nastran_op2 import deck_units, result_units
+
+    model = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "units=mm", "contact.stop.radius=1.485"])
+    deck = write(model, build_mesh(model), tmp_path)[0]
+    assert deck_units(deck) == "mm"
+    op2 = deck.with_suffix(".op2")
+    assert result_units(op2, None).length == 1e3                      # the deck beside the results wins
+    assert result_units(tmp_path / "elsewhere" / "x.op2", model).length == 1e3
+    assert result_units(tmp_path / "elsewhere" / "x.op2", None).length == 1.0
+    dmap, cmap = deck_contact_map(deck), model_contact_map(model)
+    for col in ("r", "z", "u0", "theta_deg"):
+        np.testing.assert_allclose(dmap.loc[cmap.index, col], cmap[col], rtol=1e-12, atol=1e-12, err_msg=col)
+    assert cmap["u0"].max() == pytest.approx(0.005, rel=1e-9)

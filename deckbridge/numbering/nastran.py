@@ -7,7 +7,8 @@
 - contact element i (CGAP in the penalty deck, CELAS2 in the linear deck), table slaves first,
   then stop slaves: ``elem_offset + 1 + i``; its PGAP id equals its element id;
 - circumferential CELAS2 of table node i: ``2 * elem_offset + 1 + i``;
-- RBE3 / RBE2: ``3 * elem_offset + 1``.
+- RBE3 / RBE2: ``3 * elem_offset + 1``;
+- case-control ``SET`` :data:`SET_BOTTOM_ROW` = the bottom-row CHEXAs (:func:`bottom_row_elements`).
 
 Gap convention (REFERENCE.md section 4): GA is the skirt node, GB a grounded node placed at a
 distance ``h`` (height of the first element row) along the master normal *away* from the skirt, so
@@ -23,6 +24,15 @@ import numpy as np
 
 from ..mesh import SkirtMesh
 from .skirt import node_ids
+
+
+SET_BOTTOM_ROW = 1   # case-control SET of the bottom-row CHEXAs (element stress output)
+
+
+def bottom_row_elements(mesh: SkirtMesh) -> np.ndarray:
+    """CHEXA ids of the first element row (z in [0, h]): the first n_theta * n_r elements, since the
+    element index is (k * n_r + i) * n_theta + j with k = 0 at the base (:mod:`deckbridge.mesh`)."""
+    return np.arange(1, mesh.n_theta * mesh.n_r + 1)
 
 
 def _offset(*counts: int) -> int:

@@ -15,7 +15,8 @@ closed. Rows: source mystran, method linear, step 2, increment 1, load_factor = 
 (NaN without the model).
 
 Without ``model`` the element -> node map comes from the deck beside the F06 (same stem), with
-area = 1 m^2 (sigma_n_pa then holds a force in N); see :mod:`.nastran_op2`.
+area = 1 m^2 (sigma_n_pa then holds a force in N); see :mod:`.nastran_op2`. Forces are converted
+to SI by the deck's units line, else ``model.units`` (:func:`.nastran_op2.result_units`).
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from ..model import Model
 from ..numbering.nastran import gap_layout
 from ._files import read_text
 from ._registry import register
-from .nastran_op2 import contact_map
+from .nastran_op2 import contact_map, result_units
 
 _HEADER = re.compile(r"F O R\s+E L E M E N T\s+T Y P E\s+E L A S 2\b")
 _SUBCASE = re.compile(r"OUTPUT FOR SUBCASE\s+(\d+)")
@@ -80,6 +81,7 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the contact springs of a MYSTRAN linear run."""
     path = Path(path)
     raw = read_spring_forces(path)
+    raw["force_n"] = raw["force_n"] / result_units(path, model).force
     cmap = contact_map(path, model)
     raw = raw[raw["element"].isin(cmap.index)]
     if raw.empty:

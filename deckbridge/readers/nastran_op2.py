@@ -21,12 +21,18 @@ gap_m = U0 - u (> 0 open), status = closed when gap_m <= 0. Element ids map to s
   axis is horizontal else 'table'; the **area is taken as 1 m^2, so sigma_n_pa holds the force in
   N**; load_factor is the fraction of the subcase's load (lambda_max unknown, taken as 1).
 
+Units: a deckbridge deck states its units in a header line ``$ deckbridge-units: SI|mm``
+(:mod:`deckbridge.units`). Results are converted back to SI (lengths /1e3, forces x1 for ``mm``)
+by the units of the deck beside the results when it has that line, else by ``model.units`` when
+a model is given, else SI (a foreign deck is taken as consistent SI).
+
 SOL 106 load steps: subcase n is taken to run either over (0, 1] or cumulatively over
 (n - 1, n]; both are mapped to the fraction done within the subcase.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -38,7 +44,10 @@ from ..azimuth import azimuth_deg
 from ..mesh import build_mesh
 from ..model import Model
 from ..numbering.nastran import gap_layout
+from ..units import Units, scale
 from ._registry import register
+
+_UNITS_LINE = re.compile(r"^\$\s*deckbridge-units:\s*(SI|mm)\s*$")
 
 GAP_FORCE_COLUMNS = ["element", "subcase", "increment", "time", "table", "force_n", "axial_u_m",
                      "u0_m", "opening_m", "status"]
@@ -73,22 +82,48 @@ def _frames(results: dict, table: str, force_col: int, u_col: int) -> list[pd.Da
     return out
 
 
-def read_gap_forces(path: str | Path, u0: float | dict | None = None) -> pd.DataFrame:
+def deck_units(deck: Path | None) -> str | None:
+    """Units named by a deckbridge deck's header line ``$ deckbridge-units: SI|mm``; None without one."""
+    if deck is None:
+        return None
+    try:
+        with Path(deck).open(errors="replace") as fh:
+            head = [fh.readline() for _ in range(20)]
+    except OSError:
+        return None
+    for line in head:
+        m = _UNITS_LINE.match(line)
+        if m:
+            return m.group(1)
+    return None
+
+
+def result_units(path: Path, model: Model | None) -> Units:
+    """Units of the results at ``path``: the deck beside it, else ``model.units``, else SI."""
+    name = deck_units(sibling_deck(path)) or (model.units if model is not None else "SI")
+    return scale(name)
+
+
+def read_gap_forces(path: str | Path, u0: float | dict | None = None, units: Units | None = None) -> pd.DataFrame:
     """Raw gap results of an OP2, one row per (table, subcase, increment, element).
 
     Columns: element, subcase, increment (1-based within the subcase), time (load step as
     stored), table (OEF1X or OESNLXR), force_n (> 0 compression, as in Nastran), axial_u_m
     (closure u), u0_m, opening_m = U0 - u, status (closed when opening_m <= 0). ``u0`` is a
     scalar or {element: U0}; by default the PGAP U0 of the deck beside the OP2 when it can be
-    read, else 0 (so opening_m = -u).
+    read, else 0 (so opening_m = -u). Forces and displacements are converted to SI by ``units``
+    (default: :func:`result_units` without a model); a given ``u0`` is in metres.
     """
     path = Path(path)
+    units = units or result_units(path, None)
     op2 = _load_op2(path)
     frames = _frames(op2.op2_results.force.cgap_force, "OEF1X", 0, 3)
     frames += _frames(op2.nonlinear_cgap_stress, "OESNLXR", 0, 3)
     if not frames:
         raise DeckbridgeError(f"{str(path)!r}: no gap results (OEF1X type 38 or OESNLXR type 86) in the OP2")
     df = pd.concat(frames, ignore_index=True)
+    df["force_n"] = df["force_n"].to_numpy(float) / units.force
+    df["axial_u_m"] = df["axial_u_m"].to_numpy(float) / units.length
     if u0 is None:
         u0 = _deck_u0(path)
     if isinstance(u0, dict):
@@ -131,8 +166,10 @@ def sibling_deck(path: Path) -> Path | None:
 def deck_contact_map(deck: Path) -> pd.DataFrame:
     """Contact elements read from a deck (CGAP, or CELAS2 on components 1/3 of the linear deck).
 
-    Same columns as :func:`model_contact_map` with area = 1 (so sigma_n is a force [N]).
+    Same columns as :func:`model_contact_map` with area = 1 (so sigma_n is a force [N]); lengths
+    converted to metres by the deck's units line (SI without one).
     """
+    unit_length = scale(deck_units(deck) or "SI").length   # deck length per metre
     try:
         from pyNastran.bdf.bdf import read_bdf
         bdf = read_bdf(str(deck), xref=False, debug=None, validate=False)
@@ -151,7 +188,7 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
         if el.type == "CGAP":
             a, b = xyz(el.ga), xyz(el.gb)
             prop = bdf.properties.get(el.pid)
-            u0 = float(prop.u0) if prop is not None and prop.u0 is not None else 0.0
+            u0 = float(prop.u0) / unit_length if prop is not None and prop.u0 is not None else 0.0
             comp = None
         elif el.type == "CELAS2" and el.c1 in (1, 3) and el.nodes[0]:
             a, b = xyz(el.nodes[0]), xyz(el.nodes[1])
@@ -166,8 +203,8 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
         sign = 1.0
         if comp == 1 and np.isfinite(length) and length > 0:
             sign = float(np.sign(-(axis[0] * np.cos(np.radians(th)) + axis[1] * np.sin(np.radians(th))))) or 1.0
-        rows[eid] = (int(el.ga if comp is None else el.nodes[0]), surface, th, float(np.hypot(a[0], a[1])),
-                     float(a[2]), 1.0, u0, sign)
+        rows[eid] = (int(el.ga if comp is None else el.nodes[0]), surface, th,
+                     float(np.hypot(a[0], a[1])) / unit_length, float(a[2]) / unit_length, 1.0, u0, sign)
     if not rows:
         raise DeckbridgeError(f"{str(deck)!r}: no CGAP or contact CELAS2 elements to map")
     df = pd.DataFrame.from_dict(rows, orient="index",
@@ -238,7 +275,7 @@ def _detect(path: Path) -> bool:
 def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the gap results in a Nastran OP2 (force table preferred, else OESNLXR)."""
     path = Path(path)
-    raw = read_gap_forces(path)
+    raw = read_gap_forces(path, units=result_units(path, model))
     tables = set(raw["table"])
     raw = raw[raw["table"] == ("OEF1X" if "OEF1X" in tables else "OESNLXR")]
     cmap = contact_map(path, model)

@@ -2,7 +2,8 @@
 
 A renderer is ``write(model, mesh, outdir) -> list[Path]``: it renders its jinja2 template(s) and
 writes the deck file(s) into ``outdir`` (a staging folder; the caller moves files atomically). The
-dialect table names each renderer; nothing registers itself here.
+dialect table names each renderer; nothing registers itself here. Beside the decks,
+:func:`render_all` writes the dialect-free model VTU (:mod:`.model_vtu`) once.
 """
 
 from __future__ import annotations
@@ -17,8 +18,12 @@ from ..outdir import staged
 
 
 def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
-               mesh: SkirtMesh | None = None) -> list[Path]:
-    """Render every dialect's decks (or those of ``names``) of ``model`` into ``outdir`` atomically."""
+               mesh: SkirtMesh | None = None, model_vtu: bool | None = None) -> list[Path]:
+    """Render every dialect's decks (or those of ``names``) of ``model`` into ``outdir`` atomically.
+
+    ``model_vtu``: also write ``<name>_model.vtu`` (mesh, ids, sets); default: when every dialect is
+    rendered (``names`` None), so a chosen subset of decks stays just those decks.
+    """
     mesh = mesh or build_mesh(model)
     chosen = names or sorted(DIALECTS)
     unknown = [n for n in chosen if n not in DIALECTS]
@@ -28,4 +33,7 @@ def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
     with staged(outdir) as stage:
         for name in chosen:
             written += [Path(outdir) / p.relative_to(stage) for p in DIALECTS[name].write(model, mesh, stage)]
+        if names is None if model_vtu is None else model_vtu:
+            from .model_vtu import write as write_model_vtu
+            written.append(Path(outdir) / write_model_vtu(model, mesh, stage).relative_to(stage))
     return written

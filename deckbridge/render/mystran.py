@@ -23,16 +23,19 @@ from ..mesh import SkirtMesh
 from ..model import Model
 from ..outdir import write_text
 from . import nastran_cards as nc
+from . import nastran_notes
 from ._env import deck_paths, render
 
 
 def deck_text(model: Model, mesh: SkirtMesh) -> str:
     """The whole linear deck as text."""
+    b = nc.linear_bulk(model, mesh)
     return render(
-        "mystran", "linear.bdf.j2", **nc.model_context(model, mesh),
-        coupling_kind=model.load_introduction, load=nc.LOAD_LINEAR,
-        contact_springs=nc.contact_spring_cards(mesh),
-        springs=nc.circumferential_spring_cards(mesh, grounded=False),
+        "mystran", "linear.bdf.j2", **nastran_notes.context(model, mesh),
+        name=model.name, title=model.title, lambda_max=f"{model.steps.lambda_max:g}",
+        coupling_kind=model.load_introduction, load=nc.LOAD_LINEAR, spc_sid=nc.SPC_SID, cid_cyl=nc.CID_CYL,
+        n_grids=mesh.n_nodes, n_hexa=mesh.hexes.shape[0], n_contacts=len(b.groups["contact_springs"]),
+        cards={g: b.text(g) for g in b.groups},
     )
 
 

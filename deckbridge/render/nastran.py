@@ -1,7 +1,8 @@
 """Nastran penalty deck ``<name>_penalty.bdf``: SOL 106, CGAP contact, two subcases.
 
 Subcase 1 applies N; subcase 2 applies the totals N + lambda_max (T, M) in ``steps.increments``
-increments. Card conventions (ids, gap axis, PGAP fields) are in :mod:`.nastran_cards`.
+increments. The template holds the executive and case control and the comments; the bulk cards
+come from the pyNastran model of :func:`.nastran_cards.penalty_bulk`.
 """
 
 from __future__ import annotations
@@ -12,18 +13,21 @@ from ..mesh import SkirtMesh
 from ..model import Model
 from ..outdir import write_text
 from . import nastran_cards as nc
+from . import nastran_notes
 from ._env import deck_paths, render
 
 
 def deck_text(model: Model, mesh: SkirtMesh) -> str:
     """The whole penalty deck as text."""
+    b = nc.penalty_bulk(model, mesh)
     return render(
-        "nastran", "penalty.bdf.j2", **nc.model_context(model, mesh),
+        "nastran", "penalty.bdf.j2", **nastran_notes.context(model, mesh),
+        name=model.name, title=model.title, lambda_max=f"{model.steps.lambda_max:g}",
         increments=model.steps.increments, load_introduction=model.load_introduction,
-        load_step1=nc.LOAD_STEP1, load_step2=nc.LOAD_STEP2,
-        nlparm_step1=nc.NLPARM_STEP1, nlparm_step2=nc.NLPARM_STEP2,
-        gaps=nc.gap_cards(mesh, model), springs=nc.circumferential_spring_cards(mesh),
-        nlparm=nc.nlparm_cards(model),
+        spc_sid=nc.SPC_SID, cid_cyl=nc.CID_CYL, load_step1=nc.LOAD_STEP1, load_step2=nc.LOAD_STEP2,
+        nlparm_step1=nc.NLPARM_STEP1, nlparm_step2=nc.NLPARM_STEP2, tangential=nc.tangential(model),
+        friction=f"{model.contact.friction:g}", n_grids=mesh.n_nodes, n_hexa=mesh.hexes.shape[0],
+        n_contacts=len(b.groups["gaps"]) // 2, cards={g: b.text(g) for g in b.groups},
     )
 
 

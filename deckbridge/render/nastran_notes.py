@@ -1,0 +1,58 @@
+"""Explanatory header of the Nastran-family decks: units, analysis, penalty, sets (template values).
+
+The first comment line ``$ deckbridge-units: SI|mm`` is machine-readable: the readers
+(:mod:`deckbridge.readers.nastran_op2`, :mod:`deckbridge.readers.mystran_f06`) convert results
+back to SI by it (:func:`deckbridge.readers.nastran_op2.deck_units`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..mesh import SkirtMesh
+from ..model import Model
+from ..numbering.nastran import SET_BOTTOM_ROW, bottom_row_elements, gap_layout, ground_distance
+from ..units import UNIT_LABEL, scale
+
+UNITS_TAG = "deckbridge-units:"
+
+
+def _range(values: np.ndarray) -> str:
+    lo, hi = float(np.min(values)), float(np.max(values))
+    return f"{lo:.4g}" if np.isclose(lo, hi, rtol=1e-6) else f"{lo:.4g} .. {hi:.4g}"
+
+
+def axial_stiffness_ratio(model: Model, mesh: SkirtMesh) -> np.ndarray:
+    """KA / (E A / L) per gap: L = size of the neighbouring element along the gap axis (first-row
+    height h for the table, radial element width t / n_r for the stop), A = the node's tributary
+    area; E A / L is that element's axial stiffness over the node's share [-]."""
+    lay = gap_layout(mesh)
+    length = np.where(lay.surface == "table", ground_distance(mesh), model.geometry.thickness / mesh.n_r)
+    return lay.k * length / (model.material.E * lay.area)
+
+
+def context(model: Model, mesh: SkirtMesh) -> dict:
+    """Template values of the header comments and the stress-output set (SI quantities in deck units)."""
+    u = scale(model.units)
+    lay = gap_layout(mesh)
+    ratio = axial_stiffness_ratio(model, mesh)
+    k_unit = "N/m" if model.units == "SI" else "N/mm"
+    surfaces = []
+    for s in ("table", "stop"):
+        sel = lay.surface == s
+        if sel.any():
+            surfaces.append({"name": s, "n": int(sel.sum()), "ka": _range(lay.k[sel] * u.stiffness),
+                             "ratio": _range(ratio[sel])})
+    pen = model.contact.penalty
+    rows = bottom_row_elements(mesh)
+    return {
+        "units_tag": f"{UNITS_TAG} {model.units}", "unit_label": UNIT_LABEL[model.units], "k_unit": k_unit,
+        "length_unit": "m" if model.units == "SI" else "mm",
+        "penalty_rule": (f"KA = contact.penalty.k_normal = {pen.k_normal:g} N/m (explicit)" if pen.k_normal
+                         else f"KA = k_c = alpha A K / h, alpha = {pen.alpha:g}, K = E / (3 (1 - 2 nu))"),
+        "surfaces": surfaces, "open_ratio": f"{mesh.k_open_ratio:g}",
+        "below_guidance": f"{1e3 / float(np.median(ratio)):.0e}",
+        "nlgeom": model.analysis.nlgeom, "n_top": int(mesh.top_nodes.size),
+        "stress_set": SET_BOTTOM_ROW, "stress_first": int(rows[0]), "stress_last": int(rows[-1]),
+        "n_stress": int(rows.size),
+    }
