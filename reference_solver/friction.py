@@ -326,5 +326,6 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         raise NotConverged(f"Lagrange friction: multipliers did not settle in {maxit} updates")
     s = x[sysf.tdofs]
     ds = np.linalg.norm(s - s_ref, axis=1)
-    slip = st.active[fr] & (ds > 1e-9 * (np.abs(x).max() + 1e-300))
+    on_cone = np.linalg.norm(st.t, axis=1) >= (1 - 1e-8) * mu * p[fr]        # |t| = mu p and moving
+    slip = st.active[fr] & (p[fr] > 0) & on_cone & (ds > 1e-9 * (np.abs(x).max() + 1e-300))
     return State(x=x, p=p, t=st.t, active=st.active, slip=slip, iterations=its)
