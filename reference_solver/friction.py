@@ -243,8 +243,10 @@ def newton(sysf: FrictionSystem, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_d
                 break
         if np.abs(r).max() <= 1e3 * tol * fscale and step <= 1e-3:      # round-off floor
             return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=it)
-        if not np.all(np.isfinite(dx)) or np.abs(x + step * dx).max() > max_disp or step <= 1e-3:
+        if not np.all(np.isfinite(dx)) or np.abs(x + step * dx).max() > max_disp:
             _unbounded(sysf, active, slip)
+        if step <= 1e-3:                                     # no descent: sliding on, or stuck in a kink
+            _unbounded(sysf, active, slip, strict=True)
         x, out = x + step * dx, new
         fa = active[sysf.rows]
         allslip = allslip + 1 if (fa.any() and np.all(slip[fa])) else 0

@@ -20,7 +20,8 @@ from .errors import ReferenceSolverError
 from .friction import FrictionSystem, GrossSlip, NotConverged, State, solve_increment
 
 CUTBACKS = 5             # an increment that does not converge is halved up to this many times
-SLIDE_TOL = 1.0e-4        # bisection tolerance of the gross-slip onset, relative to the largest load factor
+SLIDE_TOL = 1.0e-4        # bisection tolerance of the gross-slip and liftoff onsets, relative to the largest
+                          # load factor (each step is a sub-increment; liftoff_tol applies when coarser)
 RHO_FACTOR = 100.0        # augmented-Lagrangian rho = RHO_FACTOR * diag(S) on the normal dofs [N/m]
 
 
@@ -177,7 +178,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
                     f"step 2, load factor {lam:.6g}: the load tips the body over (every {liftoff_surface} contact is open)")
             if lift_lf is None and is_open(st):
                 a, b, a_st, b_st = lo_lam, lam, lo_st, st
-                while abs(b - a) > liftoff_tol * lam_scale:
+                while abs(b - a) > max(liftoff_tol, SLIDE_TOL) * lam_scale:
                     mid = 0.5 * (a + b)
                     mst = run(a_st, mid, 2)
                     if is_open(mst):
