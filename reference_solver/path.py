@@ -73,7 +73,20 @@ class Solution:
 
         The normal force sums every contact row of the node (table and stop). A node without
         compression and a tangential force above 1e-9 of the largest counts as a violation.
+        With friction modelled (``tangential == 'friction'``) each contact row's tangential force is
+        compared with mu times its own normal force instead.
         """
+        if self.tangential_force is not None:
+            fn_r = np.maximum(self.force, 0.0)
+            ft_r = np.linalg.norm(self.tangential_force, axis=2)
+            floor_r = 1e-9 * (ft_r.max() if ft_r.size else 0.0)
+            viol_r = ft_r > mu * fn_r * (1 + 1e-9) + floor_r
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio_r = np.where(fn_r > 0, ft_r / fn_r, np.where(ft_r > floor_r, np.inf, 0.0))
+            return {"mu": mu, "violations": int(viol_r.sum()),
+                    "violations_last_increment": int(viol_r[-1].sum()) if viol_r.size else 0,
+                    "max_ratio_ft_fn": float(ratio_r.max()) if ratio_r.size else 0.0,
+                    "slipping_last_increment": int(np.sum(self.stick_status[-1] == "slip"))}
         fn = np.zeros((self.force.shape[0], problem.n_nodes))
         np.add.at(fn.T, problem.contact_nodes, self.force.T)
         fn_s = np.maximum(fn[:, problem.spring_nodes], 0.0)
