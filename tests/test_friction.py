@@ -181,3 +181,26 @@ def test_model_tangential_friction_needs_mu_and_default_is_springs():
     assert fixed.k_tangent == 2.5e8 and not fixed.k_tangent_follows
     p = build_problem(load(None, list(SKIRT)))
     assert p.n_springs == 0 and p.tangential == "friction" and p.friction == MU
+
+
+@pytest.mark.parametrize("method", ["penalty", "lagrange"])
+def test_reactions_balance_the_loads_with_friction_at_table_and_stop(method):
+    """Distributing top, radial stop with friction too (a base node on both masters shares axes)."""
+    import dataclasses
+    model = load(None, ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.tangential=friction",
+                        f"contact.friction={MU}"])
+    p = build_problem(model)
+    p = rs.Problem(**{**{f.name: getattr(p, f.name) for f in dataclasses.fields(p)},
+                      "friction_surfaces": ("table", "stop")})
+    system = rs.condense(p)
+    sol = rs.solve_path(system, method, lambda_max=1.0, increments=4, recover=False)
+    loads = np.array([p.loads[n] for n in system.case_names])
+    arm = p.nodes[p.contact_nodes] - p.ref_point
+    for i in range(sol.step.size):
+        applied = sol.coeffs[i] @ loads
+        f = sol.force[i][:, None] * p.contact_normals + sol.tangential_force[i]
+        assert np.allclose(f.sum(0), -applied[:3], atol=1e-9 * model.loads.N)
+        assert np.allclose(np.cross(arm, f).sum(0), -applied[3:], atol=1e-9 * model.loads.N * model.geometry.height)
+    assert sol.friction_check(p, MU)["violations"] == 0
+    assert np.all(sol.dissipation >= -1e-12 * model.loads.N * np.abs(sol.u).max())
+    assert sol.liftoff_load_factor is not None
