@@ -158,7 +158,14 @@ class Stop:
 
 @dataclass(frozen=True)
 class Penalty:
-    """Penalty parameters. k_c = alpha * A^2 * K / V per slave node unless k_normal is given [N/m]."""
+    """Penalty parameters. k_c = alpha * A^2 * K / V per slave node unless k_normal is given [N/m].
+
+    ``k_tangent``: the tangential stiffness k_t per table node [N/m]. ``null`` (or ``follow``, stored
+    as null) = k_t follows k_n: k_t = 1.0 * k_c of that node (ratio 1, the paper's eq. 3 with the
+    same alpha), and with ``tangential: friction`` it also scales with the solver's --k-factor /
+    --alpha like k_n. A number is a fixed k_t [N/m], never scaled. With ``tangential: springs`` k_t is
+    the stiffness of the circumferential spring; with ``friction`` the stick slope of Coulomb friction.
+    """
     alpha: float = 0.1
     k_normal: float | None = None
     k_tangent: float | None = None
@@ -167,19 +174,39 @@ class Penalty:
     def __post_init__(self):
         _put(self, "alpha", _num("contact.penalty.alpha", self.alpha, gt=0))
         _put(self, "k_normal", _opt_num("contact.penalty.k_normal", self.k_normal, gt=0))
-        _put(self, "k_tangent", _opt_num("contact.penalty.k_tangent", self.k_tangent, gt=0))
+        kt = None if self.k_tangent == "follow" else self.k_tangent
+        _put(self, "k_tangent", _opt_num("contact.penalty.k_tangent", kt, gt=0))
         _put(self, "open_ratio", _num("contact.penalty.open_ratio", self.open_ratio, gt=0, lt=1))
+
+    @property
+    def k_tangent_follows(self) -> bool:
+        """True when k_t = k_c of each node (scaled with k_n); False for a fixed k_t [N/m]."""
+        return self.k_tangent is None
+
+
+TANGENTIAL = ("springs", "friction")
 
 
 @dataclass(frozen=True)
 class Contact:
-    """Base-ring slave nodes on the table plane z = 0 and on the radial stop."""
+    """Base-ring slave nodes on the table plane z = 0 and on the radial stop.
+
+    ``tangential``: how the shear reaches the table. ``springs`` (default): grounded circumferential
+    springs (stiffness penalty.k_tangent) on every table node, also when it lifts; ``friction`` is
+    then only checked. ``friction``: no springs; Coulomb friction mu = ``friction`` (> 0) at the table,
+    stick slope penalty.k_tangent (penalty method) or exact stick (Lagrange).
+    """
     stop: Stop = field(default_factory=Stop)
     penalty: Penalty = field(default_factory=Penalty)
     friction: float = 0.0
+    tangential: str = "springs"
 
     def __post_init__(self):
         _put(self, "friction", _num("contact.friction", self.friction, ge=0))
+        _choice("contact.tangential", self.tangential, TANGENTIAL)
+        if self.tangential == "friction" and self.friction <= 0:
+            raise ModelError("contact.friction", self.friction,
+                             "must be > 0 with contact.tangential = friction (nothing else carries the shear)")
 
 
 @dataclass(frozen=True)

@@ -38,17 +38,20 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
     z3 = (0.0, 0.0, 0.0)
+    fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
+    kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
     return rs.Problem(
         nodes=mesh.nodes, hexes=mesh.hexes, E=model.material.E, nu=model.material.nu,
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
         contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
-        spring_nodes=mesh.table.nodes,
-        spring_dirs=np.stack([-np.sin(th), np.cos(th), np.zeros_like(th)], axis=1),
-        spring_k=mesh.k_tangent,
+        spring_nodes=mesh.table.nodes[:0 if fric else None],
+        spring_dirs=np.stack([-np.sin(th), np.cos(th), np.zeros_like(th)], axis=1)[:0 if fric else None],
+        spring_k=mesh.k_tangent[:0 if fric else None],
         ref_point=mesh.ref_point, coupling=model.load_introduction,
         coupling_nodes=mesh.top_nodes, coupling_weights=mesh.top_weights,
         loads={"N": (*lv["N_force"], *z3), "T": (*lv["T_force"], *z3), "M": (*z3, *lv["M_moment"])},
         k_open_ratio=mesh.k_open_ratio, friction=model.contact.friction,
+        tangential=model.contact.tangential, contact_kt=kt, kt_follows_k=model.contact.penalty.k_tangent_follows,
     )
 
 

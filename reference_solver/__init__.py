@@ -31,6 +31,11 @@ API
     ``spring_force``; ``liftoff_load_factor``, ``liftoff_row``; ``friction_check(problem, mu)``.
 ``element_von_mises(problem, u)``, ``distributing_forces(...)``, ``hex8_stiffness(...)``, ``assemble_stiffness(...)``
     Building blocks, also used by the tests.
+``Problem(..., tangential='friction', friction=mu, contact_kt=...)``: Coulomb friction instead of springs;
+    ``condense`` then returns a ``FrictionSystem`` (normal and tangential dofs retained) and ``solve_path``
+    follows the path-dependent stick/slip (penalty return mapping, or exact augmented-Lagrangian), with
+    ``targets=[...]`` (load factors visited in order) and ``on_gross_slip='raise'|'stop'``. ``GrossSlip``
+    (a ``ReferenceSolverError``): the load slides the body.
 ``ReferenceSolverError``
     Raised with a one-line message for a mechanism, no possible contact, a load that tips the body
     over, or non-finite numbers.
@@ -42,6 +47,8 @@ from .contact import lcp_active_set, lcp_pgs, penalty_solve
 from .elements import hex8_stiffness
 from .errors import ReferenceSolverError
 from .fields import element_stress, element_von_mises
+from .friction import FrictionSystem, GrossSlip, condense_friction
+from .friction import condense_problem as condense  # dispatches on Problem.tangential
 from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_factorize
 from .loads import distributing_forces
 from .path import Solution, solve_path
@@ -52,4 +59,5 @@ __all__ = [
     "check_mechanism", "assemble_stiffness", "hex8_stiffness", "distributing_forces",
     "element_stress", "element_von_mises", "penalty_solve", "lcp_active_set", "lcp_pgs",
     "cholmod_factorize", "splu_factorize", "default_factorize", "HAVE_CHOLMOD",
+    "FrictionSystem", "GrossSlip", "condense_friction",
 ]

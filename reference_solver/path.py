@@ -17,6 +17,8 @@ import numpy as np
 from .condense import CondensedSystem
 from .contact import Unbounded, lcp_active_set, lcp_pgs, penalty_solve
 from .errors import ReferenceSolverError
+from .friction import FrictionSystem
+from .friction_path import solve_friction_path
 from .onset import track_lagrange, track_penalty
 
 METHODS = ("penalty", "lagrange")
@@ -31,6 +33,10 @@ class Solution:
     area [Pa] (< 0 compression); ``gap`` [m] (> 0 open); ``closed``: gap <= 0 (penalty) or in the
     active set (Lagrange). ``spring_force``: force of each spring on its node along its direction [N].
     ``fields[step]``: global displacements (n, 3) [m] at the end of each step when recovered.
+    With friction (``tangential == 'friction'``): ``tangential_force`` is the tangential force of the
+    master on the node (global xyz) [N]; it opposes the slip, so in stick its sum is minus the applied
+    shear; ``slip_increment`` the slip of the node over the increment [m]; ``dissipation`` = -sum t.slip
+    over the increment [J] (>= 0).
     """
     method: str
     algorithm: str
@@ -53,13 +59,34 @@ class Solution:
     liftoff_method: str | None = None   # 'path-following' (exact) or 'bisection'
     fields: dict = field(default_factory=dict)
     wall_time_s: float = 0.0
+    # with tangential = 'friction' (None otherwise):
+    tangential: str = "springs"
+    tangential_force: np.ndarray | None = None    # (ni, nc, 3) force of the master on the node [N], global
+    slip_increment: np.ndarray | None = None      # (ni, nc, 3) slip over the increment [m] (penalty: plastic part)
+    stick_status: np.ndarray | None = None        # (ni, nc) 'open' | 'stick' | 'slip' | 'frictionless'
+    dissipation: np.ndarray | None = None         # (ni,) friction work dissipated in the increment [J], >= 0
+    gross_slip_load_factor: float | None = None   # onset of gross slip (the load slides the body)
+    retained_u: np.ndarray | None = None          # (ni, nr) retained displacements [m]
 
     def friction_check(self, problem, mu: float) -> dict:
         """Compare each spring (tangential) force with mu times the normal force at its node.
 
         The normal force sums every contact row of the node (table and stop). A node without
         compression and a tangential force above 1e-9 of the largest counts as a violation.
+        With friction modelled (``tangential == 'friction'``) each contact row's tangential force is
+        compared with mu times its own normal force instead.
         """
+        if self.tangential_force is not None:
+            fn_r = np.maximum(self.force, 0.0)
+            ft_r = np.linalg.norm(self.tangential_force, axis=2)
+            floor_r = 1e-9 * (ft_r.max() if ft_r.size else 0.0)
+            viol_r = ft_r > mu * fn_r * (1 + 1e-9) + floor_r
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio_r = np.where(fn_r > 0, ft_r / fn_r, np.where(ft_r > floor_r, np.inf, 0.0))
+            return {"mu": mu, "violations": int(viol_r.sum()),
+                    "violations_last_increment": int(viol_r[-1].sum()) if viol_r.size else 0,
+                    "max_ratio_ft_fn": float(ratio_r.max()) if ratio_r.size else 0.0,
+                    "slipping_last_increment": int(np.sum(self.stick_status[-1] == "slip"))}
         fn = np.zeros((self.force.shape[0], problem.n_nodes))
         np.add.at(fn.T, problem.contact_nodes, self.force.T)
         fn_s = np.maximum(fn[:, problem.spring_nodes], 0.0)
@@ -108,13 +135,22 @@ def solve_path(sysm: CondensedSystem, method: str = "penalty", k_factor: float =
                lambda_max: float = 1.0, increments: int = 10, algorithm: str | None = None,
                liftoff_surface: str | None = "table", liftoff_tol: float = 1e-6,
                onset: str = "auto", recover: bool = True, on_increment: Callable[[int, int, float], None] | None = None,
-               ) -> Solution:
+               **friction) -> Solution:
     """Run step 1 (``base``) and step 2 (``base + lambda * ramp``, lambda = j lambda_max / increments).
 
     ``k_factor`` multiplies the problem's penalty stiffness (penalty only). Defaults: base {'N': 1},
     ramp {'T': 1, 'M': 1}. ``liftoff_tol``: bisection tolerance on lambda relative to lambda_max (the
-    fallback; the path-following onset is exact to round-off).
+    fallback; the path-following onset is exact to round-off). A :class:`FrictionSystem` runs the
+    friction path (:func:`reference_solver.friction_path.solve_friction_path`; ``friction`` keywords
+    ``targets``, ``on_gross_slip`` go there).
     """
+    if isinstance(sysm, FrictionSystem):
+        return solve_friction_path(sysm, method, k_factor, base=base, ramp=ramp, lambda_max=lambda_max,
+                                   increments=increments, algorithm=algorithm, liftoff_surface=liftoff_surface,
+                                   liftoff_tol=liftoff_tol, onset=onset, recover=recover,
+                                   on_increment=on_increment, **friction)
+    if friction:
+        raise ReferenceSolverError(f"{', '.join(friction)}: only with a friction system (tangential = 'friction')")
     t0 = time.perf_counter()
     p = sysm.problem
     if method not in METHODS:

@@ -11,6 +11,7 @@ from .elements import ELEMENTS
 from .errors import ReferenceSolverError
 
 COUPLINGS = ("distributing", "kinematic")
+TANGENTIAL = ("springs", "friction")
 
 
 @dataclass(frozen=True)
@@ -28,6 +29,11 @@ class Problem:
     Loads: ``loads[name] = (Fx, Fy, Fz, Mx, My, Mz)`` [N, N m] at ``ref_point``, introduced on
     ``coupling_nodes`` by a distributing (RBE3-like, weights ``coupling_weights``) or kinematic
     (rigid, RBE2-like) coupling.
+    Tangential mechanism: ``tangential = 'springs'`` (default) carries the shear through the springs
+    alone and ``friction`` is only checked; ``'friction'`` adds Coulomb friction (mu = ``friction``)
+    on the contact rows of ``friction_surfaces``, isotropic in the plane normal to each row, with
+    the tangential penalty stiffness ``contact_kt`` [N/m] per row (penalty method; default
+    ``contact_k``), multiplied by the path's k_factor when ``kt_follows_k`` (k_t follows k_n).
     """
     nodes: np.ndarray                 # (n, 3) [m]
     hexes: np.ndarray                 # (m, 8) 0-based, C3D8 order
@@ -49,8 +55,12 @@ class Problem:
     coupling: str = "distributing"
     k_open_ratio: float = 1.0e-6      # open stiffness / closed stiffness (penalty)
     element: str = "c3d8i"
-    friction: float = 0.0             # Coulomb mu: only checked against the spring forces, not modelled
+    friction: float = 0.0             # Coulomb mu: modelled when tangential='friction', else only checked
     max_displacement: float | None = None   # beyond this [m] a solution counts as tipped over (default: size)
+    tangential: str = "springs"       # 'springs' | 'friction'
+    contact_kt: np.ndarray | None = None   # (nc,) tangential penalty stiffness [N/m]; None = contact_k
+    kt_follows_k: bool = True         # k_t scales with the path's k_factor like k_n (else fixed)
+    friction_surfaces: tuple = ("table",)  # surfaces whose rows carry Coulomb friction
     extra: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self):
@@ -61,6 +71,9 @@ class Problem:
         for name in ("hexes", "contact_nodes", "spring_nodes", "coupling_nodes"):
             arr(name, np.int64)
         object.__setattr__(self, "contact_surface", np.asarray(self.contact_surface, str))
+        kt = self.contact_k if self.contact_kt is None else self.contact_kt
+        object.__setattr__(self, "contact_kt", np.asarray(kt, float))
+        object.__setattr__(self, "friction_surfaces", tuple(str(s) for s in self.friction_surfaces))
         object.__setattr__(self, "loads", {k: np.asarray(v, float).reshape(6) for k, v in self.loads.items()})
         self._validate()
 
@@ -102,6 +115,7 @@ class Problem:
         for name, a, shape in (("contact_normals", self.contact_normals, (nc, 3)),
                                ("contact_area", self.contact_area, (nc,)),
                                ("contact_k", self.contact_k, (nc,)),
+                               ("contact_kt", self.contact_kt, (nc,)),
                                ("contact_clearance", self.contact_clearance, (nc,)),
                                ("contact_surface", self.contact_surface, (nc,)),
                                ("spring_dirs", self.spring_dirs, (ns, 3)),
@@ -126,6 +140,12 @@ class Problem:
             bad("contact_area: must be > 0")
         if np.any(self.contact_k <= 0):
             bad("contact_k: must be > 0")
+        if np.any(self.contact_kt <= 0):
+            bad("contact_kt: must be > 0")
+        if self.tangential not in TANGENTIAL:
+            bad(f"tangential = {self.tangential!r}: must be one of {', '.join(TANGENTIAL)}")
+        if self.tangential == "friction" and not np.any(np.isin(self.contact_surface, self.friction_surfaces)):
+            bad(f"friction_surfaces = {self.friction_surfaces!r}: no contact row on these surfaces")
         if np.any(self.contact_clearance < 0):
             bad("contact_clearance: must be >= 0")
         if np.any(self.spring_k < 0):

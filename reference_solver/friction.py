@@ -1,0 +1,333 @@
+"""Coulomb friction on the condensed system: retained dofs, contact laws and one increment's solve.
+
+Retained dofs r: the normal dof of every contact row (index = row), then the spring dofs, then the two
+tangential dofs of every friction row that are not already a normal or a spring dof of that node
+(the axes of the node's local frame). The condensed stiffness S (r x r, no rigid-body restraint of
+its own) gives the equilibrium of an increment
+
+    S x = f + R(x),   R = sum over rows of p_i n_i (normal dof) + t_i (two tangential dofs),
+
+with x the retained displacements [m], f the condensed load [N], p_i >= 0 the normal force of the
+master on the node [N] (compressive, along the normal into the body) and t_i (2,) the tangential
+force of the master on the node [N] in the row's tangent axes (global vector: t_i . tdir_i).
+Sign convention: t_i opposes the slip, so the table pushes back against the applied shear
+(sum of t over the rows = -T in stick).
+
+Laws (``s`` = tangential displacement (2,) [m], ``s_ref`` its value at the previous converged
+increment, ``g`` = clearance + x_normal the gap [m], > 0 open):
+- penalty (the paper's eq. 3, PGAP-like): p = -k g when closed, -k_open g open; t = proj(t_ref -
+  k_t (s - s_ref)) on the disc |t| <= mu max(p, 0) (return mapping, radial);
+- Lagrange (exact): the fixed point of the augmented-Lagrangian maps p = max(0, p - rho g),
+  t = proj(t - rho (s - s_ref)) (Alart-Curnier), reached by outer multiplier updates, each inner
+  problem being the penalty law with the multipliers as pre-loads. At the fixed point g = 0 or p = 0
+  exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
+Both inner problems are solved by a semi-smooth Newton method with the consistent tangent.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+
+from .condense import CondensedSystem, check_mechanism, condense
+from .contact import Unbounded
+from .errors import ReferenceSolverError
+from .linalg import cholesky_dense
+from .problem import Problem
+
+ANDERSON = 5             # depth of the Anderson acceleration of the Lagrange multiplier updates (0: off)
+AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
+REGULARISER = 1.0e-6      # spring on the added tangential dofs during condensation, times E * L [N/m]
+
+
+class GrossSlip(ReferenceSolverError):
+    """No equilibrium because every closed friction row slips: the load slides the body."""
+
+
+class NotConverged(ReferenceSolverError):
+    """An increment's iterations did not settle (the path cuts the increment back)."""
+
+
+@dataclass
+class FrictionSystem:
+    """The condensed system of a ``tangential='friction'`` problem (built by :func:`condense_friction`)."""
+    problem: Problem
+    base: CondensedSystem         # condensation of the problem with the tangential dofs as (removed) springs
+    S: np.ndarray                 # (nr, nr) condensed stiffness, the regulariser removed [N/m]
+    fhat: np.ndarray              # (nr, ncase) condensed loads [N]
+    rows: np.ndarray              # (nf,) contact rows with friction
+    tdofs: np.ndarray             # (nf, 2) retained index of each friction row's tangential dofs
+    tdir: np.ndarray              # (nf, 2, 3) their global unit directions
+    info: dict = field(default_factory=dict)
+
+    @property
+    def case_names(self):
+        return self.base.case_names
+
+    @property
+    def dofs(self) -> int:
+        return self.base.dofs
+
+    @property
+    def n_contacts(self) -> int:
+        return self.problem.n_contacts
+
+    def coeffs(self, combo) -> np.ndarray:
+        return self.base.coeffs(combo)
+
+    def recover(self, x: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
+        """Global nodal displacements (m, n, 3) [m] from retained displacements ``x`` (m, nr)."""
+        xr = np.atleast_2d(x).T
+        co = np.atleast_2d(coeffs).T
+        q = self.base.schur.recover(xr, co)
+        u = (self.base.dofmap.T @ q).T.reshape(xr.shape[1], -1, 3)
+        if not np.all(np.isfinite(u)):
+            raise ReferenceSolverError("non-finite displacements in the recovered field")
+        return u
+
+
+def _tangent_axes(normals: list[np.ndarray]) -> list[np.ndarray]:
+    """Axes completing the given orthonormal directions of one node to an orthonormal basis."""
+    axes = list(normals)
+    if len(axes) == 1:
+        helper = np.eye(3)[int(np.argmin(np.abs(axes[0])))]
+        v = helper - (helper @ axes[0]) * axes[0]
+        axes.append(v / np.linalg.norm(v))
+    if len(axes) == 2:
+        axes.append(np.cross(axes[0], axes[1]))
+    return axes[len(normals):]
+
+
+def condense_friction(p: Problem, **kw) -> FrictionSystem:
+    """Condense a friction problem onto normal, spring and tangential dofs (``kw`` to :func:`condense`)."""
+    if p.tangential != "friction":
+        raise ReferenceSolverError("condense_friction: the problem has tangential = 'springs'")
+    if p.friction <= 0:
+        check_mechanism(p)     # without friction nothing carries the tangential load
+        raise ReferenceSolverError("friction = 0 with tangential = 'friction': nothing carries the tangential load")
+    at_node: dict[int, list[tuple[np.ndarray, int]]] = {}
+    for j, (n, v) in enumerate(zip(p.contact_nodes, p.contact_normals)):
+        at_node.setdefault(int(n), []).append((v, j))
+    for m, (n, v) in enumerate(zip(p.spring_nodes, p.spring_dirs)):
+        at_node.setdefault(int(n), []).append((v, p.n_contacts + m))
+    rows = np.flatnonzero(np.isin(p.contact_surface, p.friction_surfaces))
+    new_nodes, new_dirs = [], []
+    for n in np.unique(p.contact_nodes[rows]):
+        dirs = [v for v, _ in at_node[int(n)]]
+        for a in _tangent_axes(dirs) if len(dirs) < 3 else []:
+            at_node[int(n)].append((a, p.n_contacts + p.n_springs + len(new_nodes)))
+            new_nodes.append(int(n))
+            new_dirs.append(a)
+    kreg = REGULARISER * p.E * p.length_scale()
+    nn = len(new_nodes)
+    aug = Problem(**{**{f: getattr(p, f) for f in p.__dataclass_fields__},
+                     "spring_nodes": np.concatenate([p.spring_nodes, np.array(new_nodes, np.int64)]),
+                     "spring_dirs": np.vstack([p.spring_dirs.reshape(-1, 3), np.array(new_dirs).reshape(-1, 3)]),
+                     "spring_k": np.concatenate([p.spring_k, np.full(nn, kreg)]),
+                     "tangential": "springs"})
+    base = condense(aug, **kw)
+    S = base.S.copy()
+    added = np.arange(p.n_contacts + p.n_springs, S.shape[0])
+    S[added, added] -= kreg
+    tdofs = np.empty((rows.size, 2), np.int64)
+    tdir = np.empty((rows.size, 2, 3))
+    for i, j in enumerate(rows):
+        nvec = p.contact_normals[j]
+        others = [(v, r) for v, r in at_node[int(p.contact_nodes[j])] if abs(v @ nvec) < 0.5]
+        if len(others) != 2:
+            raise ReferenceSolverError(f"node {int(p.contact_nodes[j])}: cannot build its tangent plane")
+        tdofs[i] = [r for _, r in others]
+        tdir[i] = [v for v, _ in others]
+    return FrictionSystem(problem=p, base=base, S=S, fhat=base.fhat, rows=rows, tdofs=tdofs, tdir=tdir,
+                          info={**base.info, "retained": int(S.shape[0])})
+
+
+def condense_problem(p: Problem, **kw):
+    """:func:`condense_friction` for ``tangential='friction'``, else :func:`reference_solver.condense.condense`."""
+    return condense_friction(p, **kw) if p.tangential == "friction" else condense(p, **kw)
+
+
+@dataclass
+class State:
+    """A converged (or trial) contact state: retained displacements and contact forces."""
+    x: np.ndarray                 # (nr,) [m]
+    p: np.ndarray                 # (nc,) normal force [N], > 0 compressive
+    t: np.ndarray                 # (nf, 2) tangential force [N], in the rows' tangent axes
+    active: np.ndarray            # (nc,) closed rows
+    slip: np.ndarray              # (nf,) slipping friction rows (closed and on the cone)
+    iterations: int = 0
+
+
+def _laws(x, sysf: FrictionSystem, k, k_open, kt, cap, p0, t0, s_ref):
+    """Contact forces at ``x`` for a given slip threshold ``cap`` (N) and the pieces of their derivative."""
+    pr = sysf.problem
+    g = pr.contact_clearance + x[:pr.n_contacts]
+    z = p0 - k * g
+    active = z >= 0                                           # closed (g <= 0 without pre-load)
+    p = np.where(active, z, -k_open * g)
+    dp = np.where(active, k, k_open)                          # -dp/dg
+    w = x[sysf.tdofs] - s_ref - t0 / kt[:, None]              # t_trial = -kt w
+    norm = kt * np.linalg.norm(w, axis=1)
+    slip = norm > cap
+    nd = np.divide(w, np.linalg.norm(w, axis=1)[:, None], out=np.zeros_like(w), where=norm[:, None] > 0)
+    c = np.where(slip, cap, 0.0)                              # finite where used (cap may be inf)
+    t = np.where(slip[:, None], -c[:, None] * nd, -kt[:, None] * w)
+    energy_n = np.where(active, z * z / (2 * k), 0.5 * k_open * g * g)
+    energy_t = np.where(slip, c * norm / kt - c * c / (2 * kt), 0.5 * norm * norm / kt)
+    return p, dp, active, t, nd, norm, slip, (energy_n, energy_t)
+
+
+def _residual(sysf, f, x, p, t):
+    R = np.zeros_like(x)
+    R[:sysf.problem.n_contacts] += p
+    np.add.at(R, sysf.tdofs, t)
+    return sysf.S @ x - f - R
+
+
+def _hessian(sysf, kt, cap, dp, nd, norm, slip, along=0.0, k_along=None):
+    """Energy Hessian; ``along`` > 0 adds along * kt n n' on slipping rows (a stiffer, safe descent model)."""
+    nc = sysf.problem.n_contacts
+    H = sysf.S.copy()
+    H[np.arange(nc), np.arange(nc)] += dp
+    c = np.where(slip, np.where(slip, cap, 0.0) * kt / np.where(norm > 0, norm, 1.0), kt)
+    blocks = c[:, None, None] * np.eye(2)
+    ka = along * (kt if k_along is None else k_along)
+    blocks[slip] -= (c[slip] - ka[slip])[:, None, None] * nd[slip, :, None] * nd[slip, None, :]
+    b = sysf.tdofs
+    np.add.at(H, (b[:, :, None], b[:, None, :]), blocks)
+    return H
+
+
+def newton(sysf: FrictionSystem, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, tol=1e-10,
+           k_along=None):
+    """Newton with an energy line search for a fixed slip threshold ``cap`` (Tresca); returns State.
+
+    The energy 1/2 x'Sx - f'x + normal spring + tangential (quadratic, then linear beyond ``cap``)
+    is convex, so the iterates descend; when it has no minimum (the load slides or lifts the body)
+    they run beyond ``max_disp``: :class:`GrossSlip` when every closed friction row slips, else
+    :class:`Unbounded`.
+    """
+    x = np.array(x0, float)
+    fscale = np.abs(f).max() + 1e-300
+    def change(v, d, new, old):                     # E(v + d) - E(v), without cancellation of E itself
+        return (d @ (sysf.S @ v - f) + 0.5 * d @ (sysf.S @ d)
+                + np.sum(new[-1][0] - old[-1][0]) + np.sum(new[-1][1] - old[-1][1]))
+    out = _laws(x, sysf, k, k_open, kt, cap, p0, t0, s_ref)
+    allslip = 0
+    for it in range(1, maxit + 1):
+        p, dp, active, t, nd, norm, slip, _ = out
+        r = _residual(sysf, f, x, p, t)
+        if np.abs(r).max() <= tol * fscale and it > 1:
+            return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=it - 1)
+        rmax = np.abs(r).max()
+        for along in (0.0, 1.0):                             # exact Hessian, then the safe model
+            H = _hessian(sysf, kt, cap, dp, nd, norm, slip, along, k_along)
+            cf = cholesky_dense(H)
+            with np.errstate(all="ignore"):
+                dx = (-sla.cho_solve(cf, r, check_finite=False) if cf is not None
+                      else -np.linalg.lstsq(H, r, rcond=None)[0])
+            if along == 0.0 and (not np.all(np.isfinite(dx)) or np.abs(x + dx).max() > max_disp):
+                continue                                     # no minimum along the exact model
+            slope, step = r @ dx, 1.0
+            while step > 1e-3:
+                new = _laws(x + step * dx, sysf, k, k_open, kt, cap, p0, t0, s_ref)
+                de = change(x, step * dx, new, out)
+                if de <= 1e-4 * step * slope or (            # Armijo; at round-off, the residual decides
+                        de <= 1e-14 * (abs(f @ x) + 1e-300)
+                        and np.abs(_residual(sysf, f, x + step * dx, new[0], new[3])).max() <= 0.5 * rmax):
+                    break
+                step *= 0.5
+            if step > 1e-3:
+                break
+        if np.abs(r).max() <= 1e3 * tol * fscale and step <= 1e-3:      # round-off floor
+            return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=it)
+        if not np.all(np.isfinite(dx)) or np.abs(x + step * dx).max() > max_disp:
+            _unbounded(sysf, active, slip)
+        if step <= 1e-3:                                     # no descent: sliding on, or stuck in a kink
+            _unbounded(sysf, active, slip, strict=True)
+        x, out = x + step * dx, new
+        fa = active[sysf.rows]
+        allslip = allslip + 1 if (fa.any() and np.all(slip[fa])) else 0
+        if allslip > 25:                                     # sliding on: no minimum in sight
+            _unbounded(sysf, active, slip)
+    p, dp, active, t, nd, norm, slip, _ = out
+    r = _residual(sysf, f, x, p, t)
+    if np.abs(r).max() <= 1e3 * tol * fscale:                   # round-off floor reached
+        return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=maxit)
+    _unbounded(sysf, active, slip, strict=True)
+    raise NotConverged(f"friction Newton did not converge in {maxit} iterations")
+
+
+def _unbounded(sysf, active, slip, strict=False):
+    fr_active = active[sysf.rows]
+    if fr_active.any() and np.all(slip[fr_active]):
+        raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
+    if strict:
+        raise NotConverged("friction Newton did not converge")
+    raise Unbounded("no bounded equilibrium")
+
+
+def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: State, k: np.ndarray,
+                    k_open: np.ndarray, kt: np.ndarray, mu: float, max_disp: float,
+                    rho: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 200,
+                    rho_steps: int = 1, rho_growth: float = 10.0) -> State:
+    """One load increment from the converged state ``prev`` to the load ``f`` (penalty or Lagrange).
+
+    Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange:
+    augmented-Lagrangian multiplier updates (p, t and the thresholds) around the same solve.
+    """
+    s_ref = prev.x[sysf.tdofs]
+    nf, fr = sysf.rows.size, sysf.rows
+    x, its = prev.x, 0
+    if method == "penalty":
+        z0 = np.zeros_like(k)
+        cap = mu * np.where(prev.active[fr], np.maximum(prev.p[fr], 0.0), 0.0)
+        if not np.any(cap > 0):
+            cap = np.full(nf, np.inf)                     # no normal force yet: stick predictor
+        for outer in range(1, maxit + 1):                    # fixed point on the threshold mu p
+            st = newton(sysf, f, k, k_open, kt, cap, z0, prev.t, s_ref, x, max_disp)
+            its += st.iterations
+            new = mu * np.where(st.active[fr], np.maximum(st.p[fr], 0.0), 0.0)
+            x = st.x
+            if np.abs(new - cap).max() <= tol * (np.abs(new).max() + 1e-300):
+                st.iterations = its
+                return st
+            cap = new
+        raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
+    p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
+    t0 = prev.t.copy()
+    zero = np.zeros_like(rho)
+    r = rho / rho_growth ** rho_steps                  # continuation: moderate rho first, then stiffer
+    cap = mu * p0[fr] if np.any(p0[fr] > 0) else np.full(nf, np.inf)
+    hist_z, hist_g = [], []                            # Anderson acceleration of the multiplier updates
+    for outer in range(1, maxit + 1):
+        r = np.minimum(r * rho_growth, rho)
+        st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
+        its += st.iterations
+        p = np.where(st.active, st.p, 0.0)
+        change = max(np.abs(p - p0).max(), np.abs(st.t - t0).max() if nf else 0.0,
+                     np.abs(mu * p[fr] - cap).max() if nf else 0.0)
+        z, gz = np.concatenate([p0, t0.ravel()]), np.concatenate([p, st.t.ravel()])
+        x = st.x
+        if np.all(r >= rho) and ANDERSON:
+            hist_z.append(z)
+            hist_g.append(gz)
+            del hist_z[:-ANDERSON - 1], hist_g[:-ANDERSON - 1]
+        if len(hist_z) > 1:
+            F = np.array(hist_g) - np.array(hist_z)                    # residuals of the fixed point
+            dF, dG = np.diff(F, axis=0).T, np.diff(np.array(hist_g), axis=0).T
+            gamma = np.linalg.lstsq(dF, F[-1], rcond=None)[0]
+            gz = gz - dG @ gamma
+        p0, t0 = np.maximum(gz[:p.size], 0.0), gz[p.size:].reshape(-1, 2)
+        cap = mu * p0[fr]
+        if change <= tol * (np.abs(p).max() + 1e-300) and np.all(r >= rho):
+            break
+    else:
+        raise NotConverged(f"Lagrange friction: multipliers did not settle in {maxit} updates")
+    s = x[sysf.tdofs]
+    ds = np.linalg.norm(s - s_ref, axis=1)
+    on_cone = np.linalg.norm(st.t, axis=1) >= (1 - 1e-8) * mu * p[fr]        # |t| = mu p and moving
+    slip = st.active[fr] & (p[fr] > 0) & on_cone & (ds > 1e-9 * (np.abs(x).max() + 1e-300))
+    return State(x=x, p=p, t=st.t, active=st.active, slip=slip, iterations=its)
