@@ -194,7 +194,7 @@ def test_reactions_balance_the_loads_with_friction_at_table_and_stop(method, sur
     p = rs.Problem(**{**{f.name: getattr(p, f.name) for f in dataclasses.fields(p)},
                       "friction_surfaces": surfaces})
     system = rs.condense(p)
-    sol = rs.solve_path(system, method, lambda_max=1.0, increments=4, recover=False)
+    sol = rs.solve_path(system, method, lambda_max=1.0, increments=10, recover=False)
     loads = np.array([p.loads[n] for n in system.case_names])
     arm = p.nodes[p.contact_nodes] - p.ref_point
     for i in range(sol.step.size):
