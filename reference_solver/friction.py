@@ -21,7 +21,10 @@ increment, ``g`` = clearance + x_normal the gap [m], > 0 open):
   t = proj(t - rho (s - s_ref)) (Alart-Curnier), reached by outer multiplier updates, each inner
   problem being the penalty law with the multipliers as pre-loads. At the fixed point g = 0 or p = 0
   exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
-Both inner problems are solved by a semi-smooth Newton method with the consistent tangent.
+Each inner problem freezes the slip threshold mu p (Tresca) so that it minimises a convex energy:
+Newton with an energy line search, its steps low-rank (Woodbury) updates of one inverse of
+S + k (+ k_t) per path; the threshold is then updated to mu p (fixed point; for Lagrange together
+with the multipliers, Anderson-accelerated) until nothing changes to ``tol``.
 A tangential axis of a friction row that is the normal of another contact row of the node (a base
 node on the radial stop) carries no friction: the stop takes the force along it (with both rigid,
 the split would otherwise be indeterminate in the Lagrange method).

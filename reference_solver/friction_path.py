@@ -63,6 +63,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
     per leg. ``on_gross_slip``: 'raise' (:class:`GrossSlip`, one line, with the bisected onset as
     ``err.load_factor``) or 'stop' (the solution ends at the last converged increment and holds the
     onset in ``gross_slip_load_factor``). ``algorithm`` is 'newton' (penalty) or 'augmented-lagrangian'.
+    ``onset`` is accepted for the frictionless signature; friction onsets are always bisected.
     """
     from .path import Solution                          # late import: path dispatches here
     t0 = time.perf_counter()
