@@ -21,7 +21,13 @@ increment, ``g`` = clearance + x_normal the gap [m], > 0 open):
   t = proj(t - rho (s - s_ref)) (Alart-Curnier), reached by outer multiplier updates, each inner
   problem being the penalty law with the multipliers as pre-loads. At the fixed point g = 0 or p = 0
   exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
-Both inner problems are solved by a semi-smooth Newton method with the consistent tangent.
+Each inner problem freezes the slip threshold mu p (Tresca) so that it minimises a convex energy:
+Newton with an energy line search, its steps low-rank (Woodbury) updates of one inverse of
+S + k (+ k_t) per path; the threshold is then updated to mu p (fixed point; for Lagrange together
+with the multipliers, Anderson-accelerated) until nothing changes to ``tol``.
+A tangential axis of a friction row that is the normal of another contact row of the node (a base
+node on the radial stop) carries no friction: the stop takes the force along it (with both rigid,
+the split would otherwise be indeterminate in the Lagrange method).
 """
 
 from __future__ import annotations
@@ -37,6 +43,7 @@ from .errors import ReferenceSolverError
 from .linalg import cholesky_dense
 from .problem import Problem
 
+WOODBURY = True           # Newton steps as low-rank updates of one inverse per (k, k_t) (False: Cholesky)
 ANDERSON = 5             # depth of the Anderson acceleration of the Lagrange multiplier updates (0: off)
 AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
 REGULARISER = 1.0e-6      # spring on the added tangential dofs during condensation, times E * L [N/m]
@@ -61,6 +68,12 @@ class FrictionSystem:
     tdofs: np.ndarray             # (nf, 2) retained index of each friction row's tangential dofs
     tdir: np.ndarray              # (nf, 2, 3) their global unit directions
     info: dict = field(default_factory=dict)
+    cache: dict = field(default_factory=dict, repr=False)   # H0^-1 per (k, k_t), see _base_inverse
+
+    @property
+    def tmask(self) -> np.ndarray:
+        """(nf, 2) tangential axes that carry friction: not the normal of another contact row."""
+        return self.tdofs >= self.problem.n_contacts
 
     @property
     def case_names(self):
@@ -168,7 +181,7 @@ def _laws(x, sysf: FrictionSystem, k, k_open, kt, cap, p0, t0, s_ref):
     active = z >= 0                                           # closed (g <= 0 without pre-load)
     p = np.where(active, z, -k_open * g)
     dp = np.where(active, k, k_open)                          # -dp/dg
-    w = x[sysf.tdofs] - s_ref - t0 / kt[:, None]              # t_trial = -kt w
+    w = np.where(sysf.tmask, x[sysf.tdofs] - s_ref - t0 / kt[:, None], 0.0)   # t_trial = -kt w
     norm = kt * np.linalg.norm(w, axis=1)
     slip = norm > cap
     nd = np.divide(w, np.linalg.norm(w, axis=1)[:, None], out=np.zeros_like(w), where=norm[:, None] > 0)
@@ -186,18 +199,64 @@ def _residual(sysf, f, x, p, t):
     return sysf.S @ x - f - R
 
 
-def _hessian(sysf, kt, cap, dp, nd, norm, slip, along=0.0, k_along=None):
-    """Energy Hessian; ``along`` > 0 adds along * kt n n' on slipping rows (a stiffer, safe descent model)."""
-    nc = sysf.problem.n_contacts
-    H = sysf.S.copy()
-    H[np.arange(nc), np.arange(nc)] += dp
+def _blocks(kt, cap, nd, norm, slip, along=0.0, k_along=None, mask=None):
+    """(nf, 2, 2) tangential Hessian blocks; ``along`` > 0 adds along * kt n n' on slipping rows
+    (a stiffer, safe descent model)."""
     c = np.where(slip, np.where(slip, cap, 0.0) * kt / np.where(norm > 0, norm, 1.0), kt)
     blocks = c[:, None, None] * np.eye(2)
     ka = along * (kt if k_along is None else k_along)
     blocks[slip] -= (c[slip] - ka[slip])[:, None, None] * nd[slip, :, None] * nd[slip, None, :]
+    return blocks if mask is None else blocks * mask[:, :, None] * mask[:, None, :]
+
+
+def _hessian(sysf, dp, blocks):
+    nc = sysf.problem.n_contacts
+    H = sysf.S.copy()
+    H[np.arange(nc), np.arange(nc)] += dp
     b = sysf.tdofs
     np.add.at(H, (b[:, :, None], b[:, None, :]), blocks)
     return H
+
+
+def _base_inverse(sysf, k, kt):
+    """Inverse of H0 = S + k on the normal dofs + kt on the tangential ones (every row closed, stuck)."""
+    key = (k.tobytes(), kt.tobytes())
+    if key not in sysf.cache:
+        if len(sysf.cache) > 3:
+            sysf.cache.clear()
+        m = sysf.tmask
+        H0 = _hessian(sysf, k, kt[:, None, None] * np.eye(2) * m[:, :, None] * m[:, None, :])
+        cf = cholesky_dense(H0)
+        sysf.cache[key] = None if cf is None else sla.cho_solve(cf, np.eye(H0.shape[0]), check_finite=False)
+    return sysf.cache[key]
+
+
+def _step(sysf, r, k, kt, dp, blocks):
+    """Newton step -H^-1 r as a low-rank (Woodbury) update of H0^-1: only open and slipping rows differ."""
+    H0inv = _base_inverse(sysf, k, kt)
+    nc, b = sysf.problem.n_contacts, sysf.tdofs
+    dev_n = dp - k
+    m = sysf.tmask
+    dev_t = blocks - kt[:, None, None] * np.eye(2) * m[:, :, None] * m[:, None, :]
+    rn = np.flatnonzero(dev_n != 0)
+    rt = np.flatnonzero(np.abs(dev_t).reshape(-1, 4).max(axis=1) > 0)
+    idx = np.unique(np.concatenate([rn, b[rt].ravel()]))
+    if H0inv is None or idx.size > 0.5 * r.size:
+        return None
+    pos = np.full(r.size, -1)
+    pos[idx] = np.arange(idx.size)
+    C = np.zeros((idx.size, idx.size))
+    C[pos[rn], pos[rn]] += dev_n[rn]
+    bt = pos[b[rt]]
+    np.add.at(C, (bt[:, :, None], bt[:, None, :]), dev_t[rt])
+    y = H0inv @ r
+    if idx.size == 0:
+        return -y
+    try:
+        z = np.linalg.solve(np.eye(idx.size) + C @ H0inv[np.ix_(idx, idx)], C @ y[idx])
+    except np.linalg.LinAlgError:
+        return None
+    return -(y - H0inv[:, idx] @ z)
 
 
 def newton(sysf: FrictionSystem, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, tol=1e-10,
@@ -223,11 +282,14 @@ def newton(sysf: FrictionSystem, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_d
             return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=it - 1)
         rmax = np.abs(r).max()
         for along in (0.0, 1.0):                             # exact Hessian, then the safe model
-            H = _hessian(sysf, kt, cap, dp, nd, norm, slip, along, k_along)
-            cf = cholesky_dense(H)
+            blocks = _blocks(kt, cap, nd, norm, slip, along, k_along, sysf.tmask)
             with np.errstate(all="ignore"):
-                dx = (-sla.cho_solve(cf, r, check_finite=False) if cf is not None
-                      else -np.linalg.lstsq(H, r, rcond=None)[0])
+                dx = _step(sysf, r, k, kt, dp, blocks) if WOODBURY else None
+                if dx is None or not np.all(np.isfinite(dx)):
+                    H = _hessian(sysf, dp, blocks)
+                    cf = cholesky_dense(H)
+                    dx = (-sla.cho_solve(cf, r, check_finite=False) if cf is not None
+                          else -np.linalg.lstsq(H, r, rcond=None)[0])
             if along == 0.0 and (not np.all(np.isfinite(dx)) or np.abs(x + dx).max() > max_disp):
                 continue                                     # no minimum along the exact model
             slope, step = r @ dx, 1.0
@@ -326,8 +388,7 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
             break
     else:
         raise NotConverged(f"Lagrange friction: multipliers did not settle in {maxit} updates")
-    s = x[sysf.tdofs]
-    ds = np.linalg.norm(s - s_ref, axis=1)
+    ds = np.linalg.norm(np.where(sysf.tmask, x[sysf.tdofs] - s_ref, 0.0), axis=1)
     on_cone = np.linalg.norm(st.t, axis=1) >= (1 - 1e-8) * mu * p[fr]        # |t| = mu p and moving
     slip = st.active[fr] & (p[fr] > 0) & on_cone & (ds > 1e-9 * (np.abs(x).max() + 1e-300))
     return State(x=x, p=p, t=st.t, active=st.active, slip=slip, iterations=its)

@@ -39,7 +39,7 @@ def _outputs(sysf: FrictionSystem, method, states, kt):
         s = st.x[sysf.tdofs]
         s0 = np.zeros_like(s) if prev is None else prev.x[sysf.tdofs]
         t0 = np.zeros_like(st.t) if prev is None else prev.t
-        d = s - s0
+        d = np.where(sysf.tmask, s - s0, 0.0)
         if method == "penalty":
             d = d + (st.t - t0) / kt[:, None]          # minus the elastic part: the slip (plastic) increment
         d = np.where(st.active[fr][:, None], d, 0.0)
@@ -63,6 +63,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
     per leg. ``on_gross_slip``: 'raise' (:class:`GrossSlip`, one line, with the bisected onset as
     ``err.load_factor``) or 'stop' (the solution ends at the last converged increment and holds the
     onset in ``gross_slip_load_factor``). ``algorithm`` is 'newton' (penalty) or 'augmented-lagrangian'.
+    ``onset`` is accepted for the frictionless signature; friction onsets are always bisected.
     """
     from .path import Solution                          # late import: path dispatches here
     t0 = time.perf_counter()
