@@ -34,14 +34,18 @@ import pandas as pd
 from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
-from ..numbering.inp import ccx_ground_node_ids
+from ..numbering.inp import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ..numbering.skirt import node_ids
 from ._files import read_text
 from ._registry import register
+from ..units import scale
 
 SOURCE = DIALECTS["calculix"].source   # "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
+_DAT_CONTACT = re.compile(r"^\s*contact stress \(slave node,press,tang1,tang2\) for all contact elements and time\s+(\S+)")
+_META_N2F = "** deckbridge-n2f "
+_META_UNITS = "** deckbridge-units:"
 _META_JOB = "** deckbridge-job"
 _META_SLAVE = "** deckbridge-slave "
 
@@ -102,17 +106,27 @@ def _slaves_from_model(model) -> Slaves:
 
 
 def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
-    """Job metadata, slave table and GAPUNI (slave, ground) pairs of a deckbridge ccx deck."""
+    """Job metadata, slave table and GAPUNI (slave, ground) pairs of a deckbridge ccx deck.
+
+    Node-to-surface penalty decks add ``job["n2f_order"]`` ((node, surface) in contact-pair order) and
+    ``job["n2f_area"]`` ({(node, surface): ccx's slave area [m^2]}); ``job["units"]`` the deck units.
+    """
     job: dict = {}
     rows = []
     gaps: dict[tuple[int, str], int] = {}
     if not inp.is_file():
         return job, None, gaps
     lines = read_text(inp).splitlines()
-    in_gap = False
+    in_gap = in_node_surface = False
+    order, area = [], {}
     for line in lines:
         if line.startswith(_META_JOB):
-            job = dict(kv.split("=", 1) for kv in line[len(_META_JOB):].split() if "=" in kv)
+            job.update(kv.split("=", 1) for kv in line[len(_META_JOB):].split() if "=" in kv)
+        elif line.startswith(_META_UNITS):
+            job["units"] = line[len(_META_UNITS):].strip()
+        elif line.startswith(_META_N2F) and not line.startswith(_META_N2F + "node"):
+            n, surf, a = line[len(_META_N2F):].split()[:3]
+            area[(int(n), surf)] = float(a)
         elif line.startswith(_META_SLAVE) and not line.startswith(_META_SLAVE + "node"):
             rows.append(line[len(_META_SLAVE):].split())
         elif line.startswith("*"):
@@ -120,9 +134,17 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
             in_gap = up.startswith("*ELEMENT") and "TYPE=GAPUNI" in up
             m = re.search(r"ELSET=GAP_(TABLE|STOP)_", up)
             surface = m.group(1).lower() if (in_gap and m) else None
+            ns = re.match(r"\*SURFACE,NAME=SLAVE_(TABLE|STOP)\d+,TYPE=NODE$", up)
+            in_node_surface = ns is not None
+            if ns:
+                n2f_surface = ns.group(1).lower()
         elif in_gap and line.strip():
             _, slave, ground = (int(v) for v in line.split(",")[:3])
             gaps[(slave, surface)] = ground
+        elif in_node_surface and line.strip() and not line.startswith("**"):
+            order.append((int(line.split(",")[0]), n2f_surface))
+    if order:
+        job["n2f_order"], job["n2f_area"] = order, area
     slaves = None
     if rows:
         try:
@@ -144,12 +166,20 @@ def _dat_blocks(path: Path) -> list[dict]:
             cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {}}
             blocks.append(cur)
             continue
+        m = _DAT_CONTACT.match(line)
+        if m:
+            cur = {"kind": "contact", "set": "", "time": float(m.group(1)), "values": {}, "rows": []}
+            blocks.append(cur)
+            continue
         parts = line.split()
         if cur is None or not parts:
             continue
         if len(parts) == 4 and parts[0].isdigit():
             try:
-                cur["values"][int(parts[0])] = np.array([float(v) for v in parts[1:]])
+                v = np.array([float(x) for x in parts[1:]])
+                cur["values"][int(parts[0])] = v
+                if "rows" in cur:
+                    cur["rows"].append((int(parts[0]), v))
             except ValueError:
                 raise DeckbridgeError(f"{str(path)!r}: unreadable line {line.strip()!r}") from None
         else:
@@ -239,25 +269,37 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     else:
         raise DeckbridgeError(f"{str(stem)!r}: no model given and no deckbridge deck ({inp.name}) beside the "
                               "results to map node ids to the skirt")
+    u = scale(job.get("units") or (model.units if model is not None else "SI"))
     dat_blocks = _dat_blocks(dat) if dat.is_file() else []
     coords, frd_blocks = _frd_blocks(frd) if frd.is_file() else ({}, [])
+    coords = {n: c / u.length for n, c in coords.items()}
     if model is not None and coords:
         _check_coords(frd, coords, sl, model)
 
-    # per time point: node -> force (RF) and displacement, from the .dat and the .frd
+    # per time point: node -> force (RF) and displacement, from the .dat and the .frd (back to SI)
     forces: dict[tuple[int, float], dict[int, np.ndarray]] = {}
     disp: dict[tuple[int, float], dict[int, np.ndarray]] = {}
     cpress: dict[tuple[int, float], dict[int, float]] = {}
+    contact: dict[tuple[int, float], list] = {}
     for b in frd_blocks:
         key = (b["step"], b["time"])
         if b["name"] == "CONTACT":
-            cpress.setdefault(key, {}).update({n: v[3] for n, v in b["values"].items()})
+            cpress.setdefault(key, {}).update({n: v[3] / u.stress for n, v in b["values"].items()})
         elif b["name"] == "DISP":
-            disp.setdefault(key, {}).update(b["values"])
+            disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
     for b in dat_blocks:
         key = _key(b["time"], None)
-        (forces if b["kind"] == "forces" else disp).setdefault(key, {}).update(b["values"])
+        if b["kind"] == "contact":
+            contact.setdefault(key, []).extend((n, v[0] / u.stress) for n, v in b["rows"])
+        elif b["kind"] == "forces":
+            forces.setdefault(key, {}).update({n: v / u.force for n, v in b["values"].items()})
+        else:
+            disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
 
+    n2f = method == "penalty" and ("n2f_order" in job or (not gaps and model is not None
+                                                          and ccx_penalty_is_n2f(model)))
+    if n2f:
+        return _frames(sl, method, lam, _n2f_sigma(stem, sl, job, model, contact), disp, stem)
     table = sl.surface == "table"
     gap_rows = np.ones(sl.node.size, bool) if method == "penalty" else ~table
     mortar_rows = ~gap_rows
@@ -274,10 +316,9 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model)
     force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
 
-    times = sorted(set(forces) | (set(cpress) if table_from == "cpress" else set()))
-    frames, counters = [], {}
-    for step, t in times:
-        f_t, d_t = forces.get((step, t), {}), disp.get((step, t), {})
+    sigmas = {}
+    for step, t in sorted(set(forces) | (set(cpress) if table_from == "cpress" else set())):
+        f_t = forces.get((step, t), {})
         sigma = np.full(sl.node.size, np.nan)
         rf_rows = gap_rows | (mortar_rows if table_from == "rf" else False)
         for i in np.flatnonzero(rf_rows):
@@ -293,6 +334,52 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
                     raise DeckbridgeError(f"{str(frd)!r}: slave node {int(sl.node[i])} has no CONTACT result at "
                                           f"time {t:g}: results of another model?")
                 sigma[i] = -cp[int(sl.node[i])]
+        sigmas[(step, t)] = sigma
+    return _frames(sl, method, lam, sigmas, disp, stem)
+
+
+def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
+    """sigma_n per time of a node-to-surface penalty job: -CSTR x A_ccx / A (force k_c d over the model's area).
+
+    ccx prints one row per contact element, in contact-pair order, and leaves out slave nodes far from
+    their master (lifted): rows are matched to the pairs' (node, surface) sequence in order; a node without
+    a row carries no force (sigma_n = 0, open).
+    """
+    if "n2f_order" in job:
+        order, area = job["n2f_order"], job["n2f_area"]
+    else:
+        mesh = build_mesh(model)
+        a_ccx = ccx_node_slave_areas(mesh)
+        order = [(int(n), g.surface) for g in ccx_n2f_groups(mesh) for n in g.nodes]
+        area = {(n, f): float(a_ccx[n - 1]) for n, f in order}
+    row_of = {(int(n), str(f)): i for i, (n, f) in enumerate(zip(sl.node, sl.surface))}
+    if not contact:
+        raise DeckbridgeError(f"{str(stem.with_suffix('.dat'))!r}: no contact stress block (*CONTACT PRINT CSTR) "
+                              "of a node-to-surface penalty job")
+    out = {}
+    for key, rows in contact.items():
+        sigma = np.zeros(sl.node.size)
+        k = 0
+        for node, press in rows:
+            while k < len(order) and order[k][0] != node:
+                k += 1
+            if k == len(order):
+                raise DeckbridgeError(f"{str(stem.with_suffix('.dat'))!r}: contact row of node {node} out of the "
+                                      f"deck's slave order at time {key[1]:g}: results of another deck?")
+            i = row_of.get(order[k])
+            if i is None:
+                raise DeckbridgeError(f"{str(stem)!r}: {order[k][1]} slave node {node} is not a slave of the model")
+            sigma[i] = -press * area[order[k]] / sl.area[i]
+            k += 1
+        out[key] = sigma
+    return out
+
+
+def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path) -> pd.DataFrame:
+    """The tidy table from sigma_n per (step, time) and the slave displacements."""
+    frames, counters = [], {}
+    for step, t in sorted(sigmas):
+        sigma, d_t = sigmas[(step, t)], disp.get((step, t), {})
         gap = np.full(sl.node.size, np.nan)
         for i in range(sl.node.size):
             u = d_t.get(int(sl.node[i]))
