@@ -59,6 +59,12 @@ def forces_nlgeom(model: Model, method: str) -> str | None:
     return None
 
 
+def nlgeom_forced(model: Model) -> dict[str, str]:
+    """{deck file name: why it runs NLGEOM although analysis.nlgeom is false} (the dialect record's hook)."""
+    names = dict(zip(("penalty", "mortar"), deck_paths("calculix", model.name, ".")))
+    return {names[m].name: why for m in names if (why := forces_nlgeom(model, m))}
+
+
 def _common(model: Model, lay: Layout, method: str) -> dict:
     mesh = lay.mesh
     why = forces_nlgeom(model, method)
