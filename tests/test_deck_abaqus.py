@@ -167,3 +167,23 @@ def test_registered_with_the_calculix_decks(tmp_path):
     written = render_all(model, tmp_path, ["abaqus", "calculix"])
     assert sorted(p.name for p in written) == ["JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp"]
     assert all(p.is_file() for p in written)
+
+
+def test_mm_deck_scales_coordinates_modulus_areas_loads_and_springs(tmp_path):
+    """units: mm -> N, mm, MPa: coordinates x 1e3, E x 1e-6, areas x 1e6, forces x 1, moments x 1e3,
+    spring stiffness x 1e-3 (N/mm), against the SI deck of the same model."""
+    _, mesh, _, si = _deck(tmp_path / "si")
+    _, _, _, mm = _deck(tmp_path / "mm", ["units=mm"])
+    assert "** deckbridge-units: mm" in mm and "N, mm, MPa" in mm
+
+    def first(text, header, col):
+        return float(_block(text, header)[0].split(",")[col])
+
+    assert first(mm, "*NODE", 1) == pytest.approx(1e3 * first(si, "*NODE", 1), rel=1e-12)
+    assert first(mm, "*ELASTIC", 0) == pytest.approx(1e-6 * first(si, "*ELASTIC", 0), rel=1e-12)
+    assert first(mm, "*SURFACE, TYPE=NODE, NAME=SLAVE_TABLE", 1) == pytest.approx(
+        1e6 * first(si, "*SURFACE, TYPE=NODE, NAME=SLAVE_TABLE", 1), rel=1e-12)
+    assert float(_block(mm, "*SPRING, ELSET=KTAN1")[1]) == pytest.approx(1e-3 * float(_block(si, "*SPRING, ELSET=KTAN1")[1]))
+    step2 = lambda t: {ln.split(",")[1].strip(): float(ln.split(",")[2]) for ln in _block(t.split("*STEP")[2], "*CLOAD")}  # noqa: E731
+    a, b = step2(si), step2(mm)
+    assert b["3"] == pytest.approx(a["3"]) and b["4"] == pytest.approx(1e3 * a["4"]) and b["5"] == pytest.approx(1e3 * a["5"])

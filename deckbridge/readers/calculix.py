@@ -9,6 +9,9 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
 - GAPUNI gaps (penalty deck, and the stop of the mortar deck): ``.dat`` ``*NODE PRINT`` forces RF of the
   grounded node of each gap; the compressive force is F = RF . n (n = master normal pointing into the
   skirt) and sigma_n = -F / A with the neutral model's tributary area A;
+- node-to-surface penalty (``analysis.nlgeom: false`` penalty deck): ``.dat`` ``*CONTACT PRINT`` CSTR
+  (pressure p = K x penetration per contact element, in contact-pair order, lifted nodes left out):
+  sigma_n = -p A_ccx / A (force k_c x penetration over the model's area; 0 for a node without a row);
 - gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
   ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
   lifted one can carry pressure with a small positive nodal gap). status: closed where
@@ -18,8 +21,9 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
 Nodes map to azimuth/area/normal through the model's mesh when ``model`` is given (ids must be slave nodes
 of that model), else through the ``** deckbridge-slave`` lines the renderer writes into the ``.inp``.
 Steps: ccx step 1 -> step 1 (load factor 0); step 2 -> load factor lambda_max * (step time / step
-period); increments are numbered 1.. in time order within each step (with ``*STATIC, DIRECT`` exactly
-one per model increment). ``.dat`` prints carry only the total time: step = 1 for t <= 1, else 2.
+period); increments are numbered 1.. in time order within each step (the decks print at the time points
+j / increments only: one per model increment). ``.dat`` prints carry only the total time: step = 1 for
+t <= 1, else 2. Units: values are divided back to SI by the deck's ``** deckbridge-units:`` (else the model's).
 """
 
 from __future__ import annotations
