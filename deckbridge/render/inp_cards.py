@@ -113,17 +113,21 @@ def time_points(model: Model) -> list[str]:
 
 
 def stiffness_note(model: Model, mesh) -> list[str]:
-    """Comment lines: alpha, the k_c range [N/m] and KA / (E A / h) of the base row (the paper's subject)."""
-    k = np.concatenate([mesh.table.k] + ([mesh.stop.k] if mesh.stop is not None else []))
+    """Comment lines: alpha, the k_c range [N/m] and KA / (E A / h1) of the base row (the paper's subject)."""
     z = mesh.nodes[:, 2]
     h1 = float(np.min(z[z > 1e-12 * model.geometry.height]))
     ratio = mesh.table.k / (model.material.E * mesh.table.area / h1)
     pen = model.contact.penalty
-    how = f"alpha = {pen.alpha:g}" if getattr(pen, "k_normal", None) is None else f"explicit k_normal = {pen.k_normal:g} N/m"
-    return [f"Penalty: {how}; k_c per slave node from {k.min():.4g} to {k.max():.4g} N/m (k_c = alpha A^2 K / V).",
-            f"KA / (E A / h1) = {ratio.min():.3g} .. {ratio.max():.3g} (k_c over the axial stiffness of the base "
-            f"element above the node, h1 = {h1:.4g} m); the usual Nastran guidance is ~1e3, i.e. ~"
-            f"{1e3 / max(ratio.mean(), 1e-300):.0e} x stiffer."]
+    how = f"alpha = {pen.alpha:g}" if pen.k_normal is None else f"explicit k_normal = {pen.k_normal:g} N/m"
+    lines = [f"Penalty: {how}; k_c = alpha A^2 K / V per slave node (SI, whatever the deck units):",
+             f"  table k_c from {mesh.table.k.min():.4g} to {mesh.table.k.max():.4g} N/m"]
+    if mesh.stop is not None:
+        lines.append(f"  radial stop k_c from {mesh.stop.k.min():.4g} to {mesh.stop.k.max():.4g} N/m")
+    lines += [f"KA / (E A / h1) = {ratio.min():.3g} .. {ratio.max():.3g}: k_c over the axial stiffness of the base "
+              f"element above the node (h1 = {h1:.4g} m);",
+              f"  the usual Nastran guidance (KA ~ 1e3 x that stiffness) is ~{1e3 / max(ratio.mean(), 1e-300):.0e} "
+              "times stiffer."]
+    return lines
 
 
 def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> dict:
