@@ -30,6 +30,8 @@ class Dialect:
     decks: tuple[str, ...]     # deck file-name patterns
     purpose: str               # what it is for, one line
     runner: str | None = None  # "module" with run(deck, timeout_s, ...) for a solver run here
+    # "module:function", f(model) -> {deck file name: why it runs NLGEOM although analysis.nlgeom is false}
+    nlgeom_forced_by: str | None = None
 
     def deck_names(self, model_name: str) -> list[str]:
         """File names of the decks of a model called ``model_name`` (in the order of ``decks``)."""
@@ -42,6 +44,10 @@ class Dialect:
     def write(self, model, mesh, outdir: Path) -> list[Path]:
         """Render this dialect's decks of ``model`` into ``outdir`` (imports the renderer now)."""
         return _attr(self.renderer)(model, mesh, outdir)
+
+    def nlgeom_forced(self, model) -> dict[str, str]:
+        """Decks of ``model`` whose analysis differs from analysis.nlgeom = false (they run NLGEOM), with why."""
+        return _attr(self.nlgeom_forced_by)(model) if self.nlgeom_forced_by else {}
 
     def run_module(self):
         """The runner module (``run(deck, timeout_s=...)``); None when deckbridge runs no solver for it."""
@@ -59,8 +65,9 @@ DIALECTS: dict[str, Dialect] = {d.name: d for d in (
             "Abaqus/Standard, master/slave Lagrange contact (not run here: no Abaqus)"),
     Dialect("calculix", "deckbridge.render.calculix:write", "calculix", "calculix", "ccx",
             ("{name}_ccx_penalty.inp", "{name}_ccx_lagrange.inp"),
-            "CalculiX 2.20: GAPUNI penalty deck and mortar (Lagrange) deck, run by ccx",
-            runner="deckbridge.external.ccx_run"),
+            "CalculiX 2.20: penalty deck (node-to-surface LINEAR, or GAPUNI with NLGEOM) and mortar (Lagrange) "
+            "deck, run by ccx",
+            runner="deckbridge.external.ccx_run", nlgeom_forced_by="deckbridge.render.calculix:nlgeom_forced"),
     Dialect("mystran", "deckbridge.render.mystran:write", "mystran", "mystran_f06", "mystran",
             ("{name}_mystran.bdf",),
             "MYSTRAN linear SOL 101, every gap closed (below liftoff)",

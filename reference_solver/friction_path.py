@@ -18,6 +18,7 @@ import numpy as np
 from .contact import Unbounded
 from .errors import ReferenceSolverError
 from .friction import FrictionSystem, GrossSlip, NotConverged, State, solve_increment
+from .solution import Solution
 
 CUTBACKS = 5             # an increment that does not converge is halved up to this many times
 SLIDE_TOL = 1.0e-4        # bisection tolerance of the gross-slip and liftoff onsets, relative to the largest
@@ -65,7 +66,6 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
     onset in ``gross_slip_load_factor``). ``algorithm`` is 'newton' (penalty) or 'augmented-lagrangian'.
     ``onset`` is accepted for the frictionless signature; friction onsets are always bisected.
     """
-    from .path import Solution                          # late import: path dispatches here
     t0 = time.perf_counter()
     p = sysf.problem
     if method not in ("penalty", "lagrange"):

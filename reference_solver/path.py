@@ -9,7 +9,6 @@ just below and above it; when that fails, by bisection on lambda to ``liftoff_to
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
 import numpy as np
@@ -20,84 +19,10 @@ from .errors import ReferenceSolverError
 from .friction import FrictionSystem
 from .friction_path import solve_friction_path
 from .onset import track_lagrange, track_penalty
+from .solution import Solution  # noqa: F401  (re-exported: reference_solver.path.Solution)
 
 METHODS = ("penalty", "lagrange")
 ALGORITHMS = {"penalty": ("newton",), "lagrange": ("active-set", "gauss-seidel")}
-
-
-@dataclass
-class Solution:
-    """Contact results per increment (rows) and contact row / spring (columns).
-
-    ``force``: normal force of the master on the node [N], > 0 compressive; ``sigma_n`` = -force /
-    area [Pa] (< 0 compression); ``gap`` [m] (> 0 open); ``closed``: gap <= 0 (penalty) or in the
-    active set (Lagrange). ``spring_force``: force of each spring on its node along its direction [N].
-    ``fields[step]``: global displacements (n, 3) [m] at the end of each step when recovered.
-    With friction (``tangential == 'friction'``): ``tangential_force`` is the tangential force of the
-    master on the node (global xyz) [N]; it opposes the slip, so in stick its sum is minus the applied
-    shear; ``slip_increment`` the slip of the node over the increment [m]; ``dissipation`` = -sum t.slip
-    over the increment [J] (>= 0).
-    """
-    method: str
-    algorithm: str
-    k_factor: float | None
-    penalty_k: np.ndarray | None
-    step: np.ndarray
-    increment: np.ndarray
-    load_factor: np.ndarray
-    coeffs: np.ndarray            # (ni, ncase) load-case coefficients of each increment
-    u: np.ndarray                 # (ni, nc) normal displacement of the contact dofs [m]
-    gap: np.ndarray
-    force: np.ndarray
-    sigma_n: np.ndarray
-    closed: np.ndarray
-    spring_u: np.ndarray          # (ni, ns) [m]
-    spring_force: np.ndarray      # (ni, ns) [N]
-    iterations: np.ndarray
-    liftoff_load_factor: float | None
-    liftoff_row: int | None
-    liftoff_method: str | None = None   # 'path-following' (exact) or 'bisection'
-    fields: dict = field(default_factory=dict)
-    wall_time_s: float = 0.0
-    # with tangential = 'friction' (None otherwise):
-    tangential: str = "springs"
-    tangential_force: np.ndarray | None = None    # (ni, nc, 3) force of the master on the node [N], global
-    slip_increment: np.ndarray | None = None      # (ni, nc, 3) slip over the increment [m] (penalty: plastic part)
-    stick_status: np.ndarray | None = None        # (ni, nc) 'open' | 'stick' | 'slip' | 'frictionless'
-    dissipation: np.ndarray | None = None         # (ni,) friction work dissipated in the increment [J], >= 0
-    gross_slip_load_factor: float | None = None   # onset of gross slip (the load slides the body)
-    retained_u: np.ndarray | None = None          # (ni, nr) retained displacements [m]
-
-    def friction_check(self, problem, mu: float) -> dict:
-        """Compare each spring (tangential) force with mu times the normal force at its node.
-
-        The normal force sums every contact row of the node (table and stop). A node without
-        compression and a tangential force above 1e-9 of the largest counts as a violation.
-        With friction modelled (``tangential == 'friction'``) each contact row's tangential force is
-        compared with mu times its own normal force instead.
-        """
-        if self.tangential_force is not None:
-            fn_r = np.maximum(self.force, 0.0)
-            ft_r = np.linalg.norm(self.tangential_force, axis=2)
-            floor_r = 1e-9 * (ft_r.max() if ft_r.size else 0.0)
-            viol_r = ft_r > mu * fn_r * (1 + 1e-9) + floor_r
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ratio_r = np.where(fn_r > 0, ft_r / fn_r, np.where(ft_r > floor_r, np.inf, 0.0))
-            return {"mu": mu, "violations": int(viol_r.sum()),
-                    "violations_last_increment": int(viol_r[-1].sum()) if viol_r.size else 0,
-                    "max_ratio_ft_fn": float(ratio_r.max()) if ratio_r.size else 0.0,
-                    "slipping_last_increment": int(np.sum(self.stick_status[-1] == "slip"))}
-        fn = np.zeros((self.force.shape[0], problem.n_nodes))
-        np.add.at(fn.T, problem.contact_nodes, self.force.T)
-        fn_s = np.maximum(fn[:, problem.spring_nodes], 0.0)
-        ft = np.abs(self.spring_force)
-        floor = 1e-9 * (ft.max() if ft.size else 0.0)
-        viol = ft > mu * fn_s * (1 + 1e-12) + floor
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(fn_s > 0, ft / fn_s, np.where(ft > floor, np.inf, 0.0))
-        return {"mu": mu, "violations": int(viol.sum()),
-                "violations_last_increment": int(viol[-1].sum()) if viol.size else 0,
-                "max_ratio_ft_fn": float(ratio.max()) if ratio.size else 0.0}
 
 
 def _solve_state(sysm: CondensedSystem, method: str, algorithm: str, coeffs: np.ndarray,

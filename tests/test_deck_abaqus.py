@@ -133,7 +133,7 @@ def test_load_introduction_and_springs(tmp_path):
     np.testing.assert_allclose([k_of[n + 1] for n in mesh.table.nodes], mesh.k_tangent, rtol=1e-12)
 
 
-def test_steps_repeat_N_and_ramp_T_M_in_fixed_increments(tmp_path):
+def test_steps_repeat_N_and_ramp_T_M_with_automatic_increments(tmp_path):
     model, mesh, _, text = _deck(tmp_path, ["loads.azimuth=120", "steps.increments=5", "steps.lambda_max=2"])
     steps = text.split("*STEP")[1:]
     assert len(steps) == 2 and all("NLGEOM=NO" in s for s in steps)
@@ -144,8 +144,22 @@ def test_steps_repeat_N_and_ramp_T_M_in_fixed_increments(tmp_path):
     assert loads[0] == pytest.approx({3: -model.loads.N})
     assert loads[1] == pytest.approx({1: 2 * v["T_force"][0], 2: 2 * v["T_force"][1], 3: -model.loads.N,
                                       4: 2 * v["M_moment"][0], 5: 2 * v["M_moment"][1]})
-    inc = [float(x) for x in _block("*" + steps[1], "*STATIC, DIRECT")[0].split(",")]
-    assert inc == pytest.approx([0.2, 1.0, 0.2, 0.2])
+    inc = [float(x) for x in _block("*" + steps[1], "*STATIC")[0].split(",")]
+    assert inc == pytest.approx([0.2, 1.0, 2e-6, 0.2])        # initial, period, minimum, maximum increment
+    assert "DIRECT\n" not in text.split("*STEP")[1] and "*STATIC, DIRECT" not in text
+    points = [float(x) for x in _block(text, "*TIME POINTS, NAME=TP2")]
+    assert points == pytest.approx([0.2, 0.4, 0.6, 0.8, 1.0])    # lambda_j / lambda_max
+    assert text.count("*OUTPUT, FIELD, TIME POINTS=TP2") == 1 and text.count("INC=1000") == 2
+
+
+def test_nlgeom_inc_and_base_stress_request(tmp_path):
+    """NLGEOM=YES|NO from analysis.nlgeom; INC above the step's increments; *EL PRINT S on EBASE = the
+    bottom element row (ids 1..n_theta n_r) in both steps."""
+    model, mesh, _, text = _deck(tmp_path / "a", ["analysis.nlgeom=true", "steps.increments=1500"])
+    assert text.count("NLGEOM=YES, INC=15000") == 2 and "NLGEOM=NO" not in text
+    ebase = [int(v) for ln in _block(text, "*ELSET, ELSET=EBASE") for v in ln.split(",")]
+    assert ebase == list(range(1, mesh.n_theta * mesh.n_r + 1))
+    assert text.count("*EL PRINT, ELSET=EBASE, FREQUENCY=1\nS\n") == 2
 
 
 def test_registered_with_the_calculix_decks(tmp_path):
@@ -153,3 +167,23 @@ def test_registered_with_the_calculix_decks(tmp_path):
     written = render_all(model, tmp_path, ["abaqus", "calculix"])
     assert sorted(p.name for p in written) == ["JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp"]
     assert all(p.is_file() for p in written)
+
+
+def test_mm_deck_scales_coordinates_modulus_areas_loads_and_springs(tmp_path):
+    """units: mm -> N, mm, MPa: coordinates x 1e3, E x 1e-6, areas x 1e6, forces x 1, moments x 1e3,
+    spring stiffness x 1e-3 (N/mm), against the SI deck of the same model."""
+    _, mesh, _, si = _deck(tmp_path / "si")
+    _, _, _, mm = _deck(tmp_path / "mm", ["units=mm"])
+    assert "** deckbridge-units: mm" in mm and "N, mm, MPa" in mm
+
+    def first(text, header, col):
+        return float(_block(text, header)[0].split(",")[col])
+
+    assert first(mm, "*NODE", 1) == pytest.approx(1e3 * first(si, "*NODE", 1), rel=1e-12)
+    assert first(mm, "*ELASTIC", 0) == pytest.approx(1e-6 * first(si, "*ELASTIC", 0), rel=1e-12)
+    assert first(mm, "*SURFACE, TYPE=NODE, NAME=SLAVE_TABLE", 1) == pytest.approx(
+        1e6 * first(si, "*SURFACE, TYPE=NODE, NAME=SLAVE_TABLE", 1), rel=1e-12)
+    assert float(_block(mm, "*SPRING, ELSET=KTAN1")[1]) == pytest.approx(1e-3 * float(_block(si, "*SPRING, ELSET=KTAN1")[1]))
+    step2 = lambda t: {ln.split(",")[1].strip(): float(ln.split(",")[2]) for ln in _block(t.split("*STEP")[2], "*CLOAD")}  # noqa: E731
+    a, b = step2(si), step2(mm)
+    assert b["3"] == pytest.approx(a["3"]) and b["4"] == pytest.approx(1e3 * a["4"]) and b["5"] == pytest.approx(1e3 * a["5"])

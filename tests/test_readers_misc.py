@@ -150,6 +150,15 @@ def test_abaqus_dat_contact_tables(tmp_path, small_model):
     assert len(stop) == 1 and stop.iloc[0]["node"] == 1 and stop.iloc[0]["sigma_n_pa"] == -1.0e5
 
 
+def test_abaqus_dat_of_a_mm_deck_reads_back_in_si(tmp_path, small_model):
+    """A job whose deck says ``** deckbridge-units: mm``: CPRESS [MPa] and COPEN [mm] come back in Pa and m."""
+    (tmp_path / "jar_abaqus.dat").write_text(ABAQUS_DAT)
+    (tmp_path / "jar_abaqus.inp").write_text("*HEADING\nJAR\n** deckbridge-units: mm\n")
+    df = readers.read(tmp_path / "jar_abaqus.dat", model=small_model)
+    row = df[(df["step"] == 1) & (df["node"] == 1) & (df["surface"] == "table")].iloc[0]
+    assert row["sigma_n_pa"] == pytest.approx(-1.0743e13) and row["gap_m"] == pytest.approx(-1.2e-9)
+
+
 def test_abaqus_dat_without_contact_tables_or_of_another_model(tmp_path, small_model):
     p = tmp_path / "nocontact.dat"
     p.write_text(ABAQUS_DAT.split("                                   C O N T A C T")[0])

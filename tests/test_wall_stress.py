@@ -14,7 +14,7 @@ from deckbridge.external.ccx_run import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import calculix as ccx_contact
-from deckbridge.readers.ccx_el_stress import base_wall_table, corner_values, read_el_stress
+from deckbridge.readers.ccx_el_stress import base_wall_table, corner_values, read_base_wall, read_el_stress
 from deckbridge.render import render_all
 from deckbridge.solve import build_problem
 from reference_solver import stress as st
@@ -145,34 +145,19 @@ def test_reference_mean_sigma_zz_balances_contact_stress(method):
 
 
 # --- CalculiX --------------------------------------------------------------------------------------
-def _add_bottom_row_stress_print(text: str, n_elems: int) -> str:
-    """*ELSET EBASE of the bottom element row (ids 1..n_r*n_theta) and *EL PRINT S in every step.
-
-    Issue 10 adds these requests to the templates; until then the test inserts them.
-    """
-    ids = np.arange(1, n_elems + 1)
-    elset = "*ELSET, ELSET=EBASE\n" + "\n".join(", ".join(map(str, ids[a:a + 16])) for a in range(0, n_elems, 16))
-    assert text.count("*MATERIAL,") == 1 and text.count("*END STEP") == 2
-    text = text.replace("*MATERIAL,", elset + "\n*MATERIAL,")
-    return text.replace("*END STEP", "*EL PRINT, ELSET=EBASE\nS\n*END STEP")
-
-
 @pytest.fixture(scope="module")
 def ccx_job(tmp_path_factory):
-    """Both CalculiX decks, no radial stop, lambda_max 0.5 in one increment. The mortar copy runs without
-    NLGEOM (removed here: no GAPUNI left in it); the penalty deck keeps it (GAPUNI needs it)."""
+    """Both CalculiX decks as rendered (analysis.nlgeom false: node-to-surface penalty and mortar, both
+    geometrically linear; *EL PRINT S on EBASE written by the templates), no radial stop, lambda_max 0.5 in
+    one increment."""
     model = load(None, SMALL + ["contact.stop.side=none", "steps.lambda_max=0.5", "steps.increments=1"])
     mesh = build_mesh(model)
     folder = tmp_path_factory.mktemp("ccx_wall")
     paths = render_all(model, folder, names=["calculix"])
     dats = {}
     for path in paths:
-        text = _add_bottom_row_stress_print(path.read_text(), mesh.n_r * mesh.n_theta)
         method = "penalty" if "penalty" in path.name else "lagrange"
-        if method == "lagrange":
-            assert text.count("*STEP, NLGEOM, INC=") == 2
-            text = text.replace("*STEP, NLGEOM, INC=", "*STEP, INC=")
-        path.write_text(text)
+        assert "NLGEOM" not in "".join(ln for ln in path.read_text().splitlines() if ln.startswith("*STEP"))
         dats[method] = run(path, timeout_s=120).dat
     refs = {m: _reference(model, m) for m in dats}
     return model, mesh, dats, refs
@@ -182,9 +167,10 @@ def ccx_job(tmp_path_factory):
 @pytest.mark.parametrize("method", ["lagrange", "penalty"])
 def test_ccx_base_sigma_zz_at_lambda_0_is_N_over_wall_area(ccx_job, method):
     model, mesh, dats, _ = ccx_job
-    table = base_wall_table(read_el_stress(dats[method]), mesh)
+    table = read_base_wall(dats[method], model)
     assert sorted(table.time.unique()) == [1.0, 2.0]
-    t1 = table[table.time == 1.0]
+    assert sorted(table.load_factor.unique()) == [0.0, 0.5]
+    t1 = table[table.load_factor == 0.0]
     assert len(t1) == mesh.n_theta
     for col in ("szz_mean_pa", "szz_inner_pa", "szz_outer_pa"):
         np.testing.assert_allclose(t1[col], _sigma_closed_form(model), rtol=0.01, err_msg=col)

@@ -60,7 +60,7 @@ class Layout:
     stop_master: Ring | None
     next_node: int                   # first free node id after the rings
     next_elem: int                   # first free element id after the rings (first SPRING1)
-    base_elems: np.ndarray           # first-row element ids (table slave faces S1)
+    base_elems: np.ndarray           # first-row element ids (table slave faces S1; the EBASE stress set)
     stop_elems: np.ndarray           # first-row element ids on the stop side (faces S6 inner / S4 outer)
     stop_face: str
     top_elems: np.ndarray            # top-row element ids (coupling faces S2)
@@ -123,13 +123,71 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
                   top_elems=top, loads=model.load_vectors())
 
 
-# --- CalculiX GAPUNI gaps -----------------------------------------------------------------------------
-CCX_MASTERS = {"penalty": (), "mortar": ("table",)}   # master rings of each CalculiX deck
+# --- CalculiX decks ----------------------------------------------------------------------------------
+CCX_MASTERS = {"penalty": (), "mortar": ("table",), "penalty_n2f": ("table", "stop")}   # master rings
+
+
+def ccx_penalty_is_n2f(model: Model) -> bool:
+    """The CalculiX penalty deck is node-to-surface LINEAR contact (geometrically linear) unless NLGEOM is
+    asked for; with NLGEOM it is GAPUNI gaps (which give wrong reactions without NLGEOM in ccx 2.20)."""
+    return not model.analysis.nlgeom
 
 
 def ccx_layout(model: Model, mesh: SkirtMesh, method: str) -> Layout:
-    """Numbering of the CalculiX ``method`` deck ('penalty': GAPUNI gaps only; 'mortar': table ring)."""
-    return layout(model, mesh, masters=CCX_MASTERS[method])
+    """Numbering of the CalculiX ``method`` deck ('penalty': GAPUNI gaps only, or table and stop rings for
+    node-to-surface contact; 'mortar': table ring)."""
+    key = "penalty_n2f" if method == "penalty" and ccx_penalty_is_n2f(model) else method
+    return layout(model, mesh, masters=CCX_MASTERS[key])
+
+
+def ccx_node_slave_areas(mesh: SkirtMesh) -> np.ndarray:
+    """Area [m^2] that ccx 2.20 gives each skirt node of a node-based slave surface (``*SURFACE, TYPE=NODE``)
+    in node-to-surface contact: a quarter of every free (exterior) face of the skirt at the node, base and
+    wall faces alike (measured: the spring force is slope x this area x penetration). Indexed by mesh node.
+    """
+    faces = mesh.hexes[:, [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]]
+    faces = faces.reshape(-1, 4)
+    key = np.sort(faces, axis=1)
+    _, inv, count = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    free = faces[count[inv.ravel()] == 1]
+    x = mesh.nodes[free]                                       # (f, 4, 3)
+    area = 0.5 * np.linalg.norm(np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]), axis=1)
+    out = np.zeros(mesh.n_nodes)
+    np.add.at(out, free.ravel(), np.repeat(area / 4.0, 4))
+    return out
+
+
+@dataclass(frozen=True)
+class N2fGroup:
+    """Slave nodes of one surface whose k_c / A_ccx is equal: one node-based surface, one interaction."""
+    name: str                # e.g. TABLE1
+    surface: str             # 'table' | 'stop'
+    nodes: np.ndarray        # skirt node ids
+    slope: float             # K = k_c / A_ccx [Pa/m]
+    rows: np.ndarray         # rows of the slave set
+
+
+def ccx_n2f_groups(mesh: SkirtMesh, rel: float = 1e-9) -> list[N2fGroup]:
+    """Node-to-surface penalty groups of the CalculiX penalty deck: table groups first, then stop groups,
+    each sorted by slope; within a group the nodes in slave-set order."""
+    a_ccx = ccx_node_slave_areas(mesh)
+    out = []
+    for ss in (mesh.table, mesh.stop):
+        if ss is None:
+            continue
+        slope = np.asarray(ss.k, float) / a_ccx[ss.nodes]
+        order = np.argsort(slope, kind="stable")
+        groups: list[list[int]] = []
+        for i in order:
+            if groups and abs(slope[i] - slope[groups[-1][0]]) <= rel * abs(slope[groups[-1][0]]):
+                groups[-1].append(int(i))
+            else:
+                groups.append([int(i)])
+        for n, g in enumerate(groups, start=1):
+            rows = np.array(sorted(g))
+            out.append(N2fGroup(name=f"{ss.surface.upper()}{n}", surface=ss.surface, nodes=node_ids(ss.nodes[rows]),
+                                slope=float(np.mean(slope[rows])), rows=rows))
+    return out
 
 
 @dataclass(frozen=True)
@@ -153,7 +211,11 @@ def ccx_gaps(model: Model, mesh: SkirtMesh, method: str, lay: Layout | None = No
     Grounded nodes follow the master rings; gap elements follow the SPRING1 restraints.
     """
     lay = lay or ccx_layout(model, mesh, method)
-    sets = tuple(ss for ss in ((mesh.table, mesh.stop) if method == "penalty" else (mesh.stop,)) if ss is not None)
+    if method == "penalty" and ccx_penalty_is_n2f(model):
+        chosen = ()
+    else:
+        chosen = (mesh.table, mesh.stop) if method == "penalty" else (mesh.stop,)
+    sets = tuple(ss for ss in chosen if ss is not None)
     set_index = np.concatenate([np.full(ss.nodes.size, k) for k, ss in enumerate(sets)] or [np.zeros(0, int)])
     row = np.concatenate([np.arange(ss.nodes.size) for ss in sets] or [np.zeros(0, int)])
     n = row.size

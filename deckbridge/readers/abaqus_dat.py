@@ -18,6 +18,8 @@ load factor is lambda_max * (fraction of step completed). CPRESS is compression-
 flipped (sigma_n = -CPRESS); COPEN > 0 is open. Node labels (``INSTANCE.label`` too) map to azimuth
 through the neutral model (the embedded default when none is given). Surface: 'stop' when the
 pair's surface names mention STOP, 'table' when they mention TABLE, else from the model's slave sets.
+Units: CPRESS and COPEN are divided back to SI by the units of the deck beside the ``.dat`` (its
+``** deckbridge-units:`` line), else the model's (``units: mm`` decks are in N, mm, MPa).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from ..errors import DeckbridgeError
 from ._files import read_text
 from ._registry import register
 from ._nodemap import locate, surface_of
+from ..units import scale
 
 _NUM = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[EeDd][-+]?\d+)?"
 _NUM_RE = re.compile(rf"^{_NUM}$")
@@ -146,6 +149,16 @@ def _surface(raw: pd.DataFrame, located: pd.DataFrame) -> np.ndarray:
     return np.where(hint == "", by_model, hint)
 
 
+def _deck_units(path: Path, model) -> str:
+    """The ``** deckbridge-units:`` of the job's ``.inp`` beside the ``.dat``, else the model's units."""
+    inp = path.with_suffix(".inp")
+    if inp.is_file():
+        for line in read_text(inp).splitlines()[:400]:
+            if line.startswith("** deckbridge-units:"):
+                return line.split(":", 1)[1].strip()
+    return model.units
+
+
 @register("abaqus_dat", detect=detect)
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read the contact print tables of an Abaqus .dat file into the tidy table."""
@@ -160,8 +173,9 @@ def read(path: Path, model=None) -> pd.DataFrame:
         raise DeckbridgeError(f"{str(path)!r}: step {bad[0]} is not in the load path (1 = N, 2 = N + lambda (T, M))")
     model = model or load(None)
     located = locate(raw["node"].to_numpy(), model, path)
-    cpress = raw["CPRESS"].to_numpy(float)
-    copen = raw["COPEN"].to_numpy(float) if "COPEN" in raw else np.full(len(raw), np.nan)
+    u = scale(_deck_units(path, model))
+    cpress = raw["CPRESS"].to_numpy(float) / u.stress
+    copen = (raw["COPEN"].to_numpy(float) / u.length) if "COPEN" in raw else np.full(len(raw), np.nan)
     word = raw["status_word"].to_numpy()
     is_open = np.where(word != "", np.isin(word, list(_OPEN_WORDS)),
                        np.where(np.isnan(copen), cpress <= 0.0, (copen > 0.0) & (cpress <= 0.0)))

@@ -9,6 +9,9 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
 - GAPUNI gaps (penalty deck, and the stop of the mortar deck): ``.dat`` ``*NODE PRINT`` forces RF of the
   grounded node of each gap; the compressive force is F = RF . n (n = master normal pointing into the
   skirt) and sigma_n = -F / A with the neutral model's tributary area A;
+- node-to-surface penalty (``analysis.nlgeom: false`` penalty deck): ``.dat`` ``*CONTACT PRINT`` CSTR
+  (pressure p = K x penetration per contact element, in contact-pair order, lifted nodes left out):
+  sigma_n = -p A_ccx / A (force k_c x penetration over the model's area; 0 for a node without a row);
 - gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
   ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
   lifted one can carry pressure with a small positive nodal gap). status: closed where
@@ -18,14 +21,14 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
 Nodes map to azimuth/area/normal through the model's mesh when ``model`` is given (ids must be slave nodes
 of that model), else through the ``** deckbridge-slave`` lines the renderer writes into the ``.inp``.
 Steps: ccx step 1 -> step 1 (load factor 0); step 2 -> load factor lambda_max * (step time / step
-period); increments are numbered 1.. in time order within each step (with ``*STATIC, DIRECT`` exactly
-one per model increment). ``.dat`` prints carry only the total time: step = 1 for t <= 1, else 2.
+period); increments are numbered 1.. in time order within each step (the decks print at the time points
+j / increments only: one per model increment). ``.dat`` prints carry only the total time: step = 1 for
+t <= 1, else 2. Units: values are divided back to SI by the deck's ``** deckbridge-units:`` (else the model's).
 """
 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,16 +37,13 @@ import pandas as pd
 from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
-from ..numbering.inp import ccx_ground_node_ids
-from ..numbering.skirt import node_ids
-from ._files import read_text
+from ..numbering.inp import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
+from ..units import scale
 from ._registry import register
+from .ccx_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
 
 SOURCE = DIALECTS["calculix"].source   # "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
-_DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
-_META_JOB = "** deckbridge-job"
-_META_SLAVE = "** deckbridge-slave "
 
 
 def detect(path: Path) -> bool:
@@ -75,128 +75,6 @@ def _jobs_in(folder: Path) -> list[Path]:
     """Job stems in ``folder`` with a ccx result file next to them."""
     stems = {p.with_suffix("") for p in folder.iterdir() if p.suffix.lower() in (".frd", ".dat")}
     return sorted(s for s in stems if any(detect(s.with_suffix(x)) for x in (".frd", ".dat")))
-
-
-# --- slave table -------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class Slaves:
-    """One row per slave (node, surface): geometry and what turns forces into stresses."""
-    node: np.ndarray
-    surface: np.ndarray
-    theta: np.ndarray
-    r: np.ndarray
-    z: np.ndarray
-    area: np.ndarray
-    normal: np.ndarray      # (n, 3)
-    clearance: np.ndarray
-
-
-def _slaves_from_model(model) -> Slaves:
-    mesh = build_mesh(model)
-    sets = mesh.slave_sets
-    cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
-    return Slaves(node=cat(lambda s: node_ids(s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
-                  theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),
-                  area=cat(lambda s: s.area), normal=np.vstack([s.normal for s in sets]),
-                  clearance=cat(lambda s: s.clearance))
-
-
-def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
-    """Job metadata, slave table and GAPUNI (slave, ground) pairs of a deckbridge ccx deck."""
-    job: dict = {}
-    rows = []
-    gaps: dict[tuple[int, str], int] = {}
-    if not inp.is_file():
-        return job, None, gaps
-    lines = read_text(inp).splitlines()
-    in_gap = False
-    for line in lines:
-        if line.startswith(_META_JOB):
-            job = dict(kv.split("=", 1) for kv in line[len(_META_JOB):].split() if "=" in kv)
-        elif line.startswith(_META_SLAVE) and not line.startswith(_META_SLAVE + "node"):
-            rows.append(line[len(_META_SLAVE):].split())
-        elif line.startswith("*"):
-            up = line.upper().replace(" ", "")
-            in_gap = up.startswith("*ELEMENT") and "TYPE=GAPUNI" in up
-            m = re.search(r"ELSET=GAP_(TABLE|STOP)_", up)
-            surface = m.group(1).lower() if (in_gap and m) else None
-        elif in_gap and line.strip():
-            _, slave, ground = (int(v) for v in line.split(",")[:3])
-            gaps[(slave, surface)] = ground
-    slaves = None
-    if rows:
-        try:
-            a = np.array([[float(v) for v in (r[:1] + r[2:])] for r in rows])
-        except ValueError:
-            raise DeckbridgeError(f"{str(inp)!r}: malformed '** deckbridge-slave' line") from None
-        slaves = Slaves(node=a[:, 0].astype(np.int64), surface=np.array([r[1] for r in rows]), theta=a[:, 1],
-                        r=a[:, 2], z=a[:, 3], area=a[:, 4], normal=a[:, 5:8], clearance=a[:, 8])
-    return job, slaves, gaps
-
-
-# --- ccx files ----------------------------------------------------------------------------------------
-def _dat_blocks(path: Path) -> list[dict]:
-    """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}."""
-    blocks, cur = [], None
-    for line in read_text(path).splitlines():
-        m = _DAT_HEAD.match(line)
-        if m:
-            cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {}}
-            blocks.append(cur)
-            continue
-        parts = line.split()
-        if cur is None or not parts:
-            continue
-        if len(parts) == 4 and parts[0].isdigit():
-            try:
-                cur["values"][int(parts[0])] = np.array([float(v) for v in parts[1:]])
-            except ValueError:
-                raise DeckbridgeError(f"{str(path)!r}: unreadable line {line.strip()!r}") from None
-        else:
-            cur = None
-    return blocks
-
-
-def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
-    """Node coordinates and DISP/CONTACT result blocks of an ASCII ``.frd``.
-
-    Each block: name, step, inc (ccx increment within the step), time, components, {node: values}.
-    """
-    coords: dict[int, np.ndarray] = {}
-    blocks: list[dict] = []
-    try:
-        fh = open(path, errors="replace")
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
-    with fh:
-        mode, cur, step, inc, time, width = None, None, 0, 0, 0.0, 10
-        for line in fh:
-            if line.startswith("    2C"):
-                mode, width = "coords", (5 if line.split()[-1] == "0" else 10)
-            elif line.startswith("    1PSTEP"):
-                f = line.split()
-                inc, step = int(f[2]), int(f[3])
-            elif line.startswith("  100C"):
-                time = float(line[12:24])
-                width = 5 if line.split()[-1] == "0" else 10
-            elif line.startswith(" -4 "):
-                cur = {"name": line[5:13].strip(), "step": step, "inc": inc, "time": time, "values": {}}
-                blocks.append(cur)
-                mode = "result"
-            elif line.startswith(" -3"):
-                mode, cur = None, None
-            elif line.startswith(" -1") and mode is not None:
-                try:
-                    node = int(line[3:3 + width])
-                    body = line[3 + width:].rstrip("\n")
-                    vals = np.array([float(body[i:i + 12]) for i in range(0, len(body.rstrip()), 12)])
-                except ValueError:
-                    raise DeckbridgeError(f"{str(path)!r}: unreadable line {line.strip()!r}") from None
-                if mode == "coords":
-                    coords[node] = vals
-                else:
-                    cur["values"][node] = vals
-    return coords, blocks
 
 
 # --- assembly -----------------------------------------------------------------------------------------
@@ -239,25 +117,37 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     else:
         raise DeckbridgeError(f"{str(stem)!r}: no model given and no deckbridge deck ({inp.name}) beside the "
                               "results to map node ids to the skirt")
+    u = scale(job.get("units") or (model.units if model is not None else "SI"))
     dat_blocks = _dat_blocks(dat) if dat.is_file() else []
     coords, frd_blocks = _frd_blocks(frd) if frd.is_file() else ({}, [])
+    coords = {n: c / u.length for n, c in coords.items()}
     if model is not None and coords:
         _check_coords(frd, coords, sl, model)
 
-    # per time point: node -> force (RF) and displacement, from the .dat and the .frd
+    # per time point: node -> force (RF) and displacement, from the .dat and the .frd (back to SI)
     forces: dict[tuple[int, float], dict[int, np.ndarray]] = {}
     disp: dict[tuple[int, float], dict[int, np.ndarray]] = {}
     cpress: dict[tuple[int, float], dict[int, float]] = {}
+    contact: dict[tuple[int, float], list] = {}
     for b in frd_blocks:
         key = (b["step"], b["time"])
         if b["name"] == "CONTACT":
-            cpress.setdefault(key, {}).update({n: v[3] for n, v in b["values"].items()})
+            cpress.setdefault(key, {}).update({n: v[3] / u.stress for n, v in b["values"].items()})
         elif b["name"] == "DISP":
-            disp.setdefault(key, {}).update(b["values"])
+            disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
     for b in dat_blocks:
         key = _key(b["time"], None)
-        (forces if b["kind"] == "forces" else disp).setdefault(key, {}).update(b["values"])
+        if b["kind"] == "contact":
+            contact.setdefault(key, []).extend((n, v[0] / u.stress) for n, v in b["rows"])
+        elif b["kind"] == "forces":
+            forces.setdefault(key, {}).update({n: v / u.force for n, v in b["values"].items()})
+        else:
+            disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
 
+    n2f = method == "penalty" and ("n2f_order" in job or (not gaps and model is not None
+                                                          and ccx_penalty_is_n2f(model)))
+    if n2f:
+        return _frames(sl, method, lam, _n2f_sigma(stem, sl, job, model, contact), disp, stem)
     table = sl.surface == "table"
     gap_rows = np.ones(sl.node.size, bool) if method == "penalty" else ~table
     mortar_rows = ~gap_rows
@@ -274,10 +164,9 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model)
     force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
 
-    times = sorted(set(forces) | (set(cpress) if table_from == "cpress" else set()))
-    frames, counters = [], {}
-    for step, t in times:
-        f_t, d_t = forces.get((step, t), {}), disp.get((step, t), {})
+    sigmas = {}
+    for step, t in sorted(set(forces) | (set(cpress) if table_from == "cpress" else set())):
+        f_t = forces.get((step, t), {})
         sigma = np.full(sl.node.size, np.nan)
         rf_rows = gap_rows | (mortar_rows if table_from == "rf" else False)
         for i in np.flatnonzero(rf_rows):
@@ -293,6 +182,52 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
                     raise DeckbridgeError(f"{str(frd)!r}: slave node {int(sl.node[i])} has no CONTACT result at "
                                           f"time {t:g}: results of another model?")
                 sigma[i] = -cp[int(sl.node[i])]
+        sigmas[(step, t)] = sigma
+    return _frames(sl, method, lam, sigmas, disp, stem)
+
+
+def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
+    """sigma_n per time of a node-to-surface penalty job: -CSTR x A_ccx / A (force k_c d over the model's area).
+
+    ccx prints one row per contact element, in contact-pair order, and leaves out slave nodes far from
+    their master (lifted): rows are matched to the pairs' (node, surface) sequence in order; a node without
+    a row carries no force (sigma_n = 0, open).
+    """
+    if "n2f_order" in job:
+        order, area = job["n2f_order"], job["n2f_area"]
+    else:
+        mesh = build_mesh(model)
+        a_ccx = ccx_node_slave_areas(mesh)
+        order = [(int(n), g.surface) for g in ccx_n2f_groups(mesh) for n in g.nodes]
+        area = {(n, f): float(a_ccx[n - 1]) for n, f in order}
+    row_of = {(int(n), str(f)): i for i, (n, f) in enumerate(zip(sl.node, sl.surface))}
+    if not contact:
+        raise DeckbridgeError(f"{str(stem.with_suffix('.dat'))!r}: no contact stress block (*CONTACT PRINT CSTR) "
+                              "of a node-to-surface penalty job")
+    out = {}
+    for key, rows in contact.items():
+        sigma = np.zeros(sl.node.size)
+        k = 0
+        for node, press in rows:
+            while k < len(order) and order[k][0] != node:
+                k += 1
+            if k == len(order):
+                raise DeckbridgeError(f"{str(stem.with_suffix('.dat'))!r}: contact row of node {node} out of the "
+                                      f"deck's slave order at time {key[1]:g}: results of another deck?")
+            i = row_of.get(order[k])
+            if i is None:
+                raise DeckbridgeError(f"{str(stem)!r}: {order[k][1]} slave node {node} is not a slave of the model")
+            sigma[i] = -press * area[order[k]] / sl.area[i]
+            k += 1
+        out[key] = sigma
+    return out
+
+
+def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path) -> pd.DataFrame:
+    """The tidy table from sigma_n per (step, time) and the slave displacements."""
+    frames, counters = [], {}
+    for step, t in sorted(sigmas):
+        sigma, d_t = sigmas[(step, t)], disp.get((step, t), {})
         gap = np.full(sl.node.size, np.nan)
         for i in range(sl.node.size):
             u = d_t.get(int(sl.node[i]))

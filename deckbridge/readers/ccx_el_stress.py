@@ -14,11 +14,12 @@ frame, tension > 0 (ccx's shear order xy, xz, yz: not the reference solver's xy,
 ccx's total time (deckbridge decks: step 1 ends at t = 1, step 2 at t = 1 + (lambda / lambda_max)).
 The set name is upper case. Values such as ``1.234567-100`` (three-digit exponent without ``E``) are read.
 
-Not registered in the readers registry: :func:`read_el_stress` gives the raw table,
-:func:`base_wall_table` the wall's axial stress at the base (inner, outer, membrane, bending) per time
-and azimuth, by the same Gauss-to-corner extrapolation and nodal averaging as the reference solver
-(:mod:`reference_solver.stress`). Never ccx's ``.frd`` nodal stresses: at nodes a GAPUNI touches, ccx
-averages them with the gap's zeros.
+Not a format of the readers registry (the ``calculix`` reader returns the contact table): :func:`read_el_stress`
+gives the raw table, :func:`base_wall_table` the wall's axial stress at the base (inner, outer, membrane,
+bending) per time and azimuth, by the same Gauss-to-corner extrapolation and nodal averaging as the reference
+solver (:mod:`reference_solver.stress`), and :func:`read_base_wall` does both for a deckbridge ccx job (the
+``EBASE`` set every deckbridge inp deck prints), in SI, with step and load factor. Never ccx's ``.frd`` nodal
+stresses: at nodes a GAPUNI touches, ccx averages them with the gap's zeros.
 """
 
 from __future__ import annotations
@@ -145,3 +146,38 @@ def base_wall_table(stress: pd.DataFrame, mesh) -> pd.DataFrame:
                                  "szz_outer_pa": bw.outer, "szz_mean_pa": bw.mean,
                                  "szz_bending_pa": bw.bending}))
     return pd.concat(out, ignore_index=True)
+
+
+def deck_units(path: str | Path, model=None) -> str:
+    """Units of a ccx job: the ``** deckbridge-units:`` line of the ``.inp`` beside ``path``, else the
+    model's, else 'SI'."""
+    inp = Path(path).with_suffix(".inp")
+    if inp.is_file():
+        with open(inp, errors="replace") as fh:
+            for _, line in zip(range(400), fh):
+                if line.startswith("** deckbridge-units:"):
+                    return line.split(":", 1)[1].strip()
+    return getattr(model, "units", "SI")
+
+
+def read_base_wall(path: str | Path, model) -> pd.DataFrame:
+    """Base wall stresses of the deckbridge ccx job at ``path`` (its ``.dat``, ``.inp`` or stem) of ``model``.
+
+    Columns: step, load_factor (0 in step 1; lambda_max x step time in step 2), time, theta_deg,
+    szz_inner_pa, szz_outer_pa, szz_mean_pa, szz_bending_pa [Pa, SI whatever the deck units], tension > 0.
+    """
+    from ..mesh import build_mesh
+    from ..units import scale
+
+    dat = Path(path).with_suffix(".dat")
+    stress = read_el_stress(dat)
+    stress = stress[stress["set"] == "EBASE"]
+    if stress.empty:
+        raise DeckbridgeError(f"{dat}: no '*EL PRINT, ELSET=EBASE' stress block")
+    stress = stress.copy()
+    stress[COLUMNS] = stress[COLUMNS] / scale(deck_units(dat, model)).stress
+    table = base_wall_table(stress, build_mesh(model))
+    step = np.where(table["time"] <= 1.0 + 1e-9, 1, 2)
+    table.insert(0, "load_factor", np.where(step == 1, 0.0, model.steps.lambda_max * (table["time"] - 1.0)))
+    table.insert(0, "step", step)
+    return table

@@ -11,9 +11,11 @@ depends on the pair type) and ``*FRICTION`` = contact.friction (``LAGRANGE`` sti
 Rest as in the CalculiX decks: C3D8I skirt, circumferential SPRING1 per table node (cylindrical
 ``*ORIENTATION``, local dof 2, mesh.k_tangent), ``*COUPLING`` + ``*DISTRIBUTING`` (uniform weighting, i.e.
 tributary-area weights on the element-based top surface) or ``*KINEMATIC`` from the top-centre reference
-node; step 1: N; step 2: N repeated + lambda_max (T, M) in ``steps.increments`` fixed increments
-(``*STATIC, DIRECT``), small displacements (``NLGEOM=NO``). Output: CSTRESS/CDISP field output and
-``*CONTACT PRINT`` per pair (surface names contain TABLE / STOP for the .dat reader).
+node; step 1: N; step 2: N repeated + lambda_max (T, M) with automatic incrementation (``*STATIC`` with
+initial, period, minimum and maximum increment = 1/increments, no DIRECT: cutbacks allowed where the contact
+state changes) and output at ``*TIME POINTS`` j/increments; ``NLGEOM=YES|NO`` from analysis.nlgeom;
+``*STEP, INC=`` from the model. Output: CSTRESS/CDISP field output, ``*CONTACT PRINT`` per pair (surface
+names contain TABLE / STOP for the .dat reader) and ``*EL PRINT, ELSET=EBASE`` S. Units: model.units.
 """
 
 from __future__ import annotations
@@ -26,33 +28,33 @@ from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.inp import layout
 from ._env import deck_paths, render
+from ..units import scale
 from .inp_cards import element_lines, face_lines, node_block, real, shared_context
-
-INC_LIMIT = 1000   # *STEP, INC= (upper bound; DIRECT takes exactly the given increments)
 
 
 def context(model: Model, mesh: SkirtMesh) -> dict:
+    u = scale(model.units)
     lay = layout(model, mesh, masters=("table", "stop"))
     rings = [r for r in (lay.table_master, lay.stop_master) if r is not None]
-    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table),
+    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table, u.length),
               "master": face_lines(lay.table_master.elem_ids, lay.table_master.face)}]
     if lay.stop_master is not None:
-        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop),
+        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop, u.length),
                       "master": face_lines(lay.stop_master.elem_ids, lay.stop_master.face)})
     mu = model.contact.friction
     return {
-        **shared_context(model, lay, INC_LIMIT),
+        **shared_context(model, lay),
         **node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                      [("NMASTER", np.concatenate([r.node_ids for r in rings]),
-                       np.vstack([r.nodes for r in rings]))]),
+                       np.vstack([r.nodes for r in rings]))], u.length),
         "master_elems": "\n".join(element_lines(r.elem_ids, r.conn) for r in rings),
         "pairs": pairs, "friction": real(mu), "lagrange_friction": mu > 0,
     }
 
 
-def _node_surface(ss) -> str:
-    """``node, tributary area`` data lines of a node-based slave surface."""
-    return "\n".join(f"{int(n) + 1}, {real(a)}" for n, a in zip(ss.nodes, ss.area))
+def _node_surface(ss, length: float = 1.0) -> str:
+    """``node, tributary area`` data lines of a node-based slave surface (area in deck units)."""
+    return "\n".join(f"{int(n) + 1}, {real(a * length ** 2)}" for n, a in zip(ss.nodes, ss.area))
 
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:

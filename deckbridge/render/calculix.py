@@ -1,30 +1,29 @@
-"""CalculiX 2.20 decks: ``<name>_ccx_penalty.inp`` (GAPUNI gaps) and ``<name>_ccx_lagrange.inp`` (mortar).
+"""CalculiX 2.20 decks: ``<name>_ccx_penalty.inp`` (penalty) and ``<name>_ccx_lagrange.inp`` (mortar).
 
-Penalty: one GAPUNI element per slave node, from the skirt node to a grounded node at the same place,
-with exactly the neutral model's stiffness k_c [N/m] (mesh.table.k, mesh.stop.k) on its ``*GAP`` line, the
-direction -n (n = master normal pointing into the skirt) and the clearance. The gap's tension for a wide
-opening is written explicitly: f_inf = open_ratio * k_c * t (t = wall thickness; ccx's default 1e-3 N
-would be a hidden number). GAPUNI needs ``NLGEOM`` in 2.20 (without it reactions came out doubled).
-GAPUNI gaps are frictionless: a model with contact.friction > 0 is refused for this deck.
+Penalty, ``analysis.nlgeom: false`` (default, the reference solver's small-strain analysis): node-to-surface
+contact with ``PRESSURE-OVERCLOSURE=LINEAR``, node-based slave surfaces grouped by equal k_c / A_ccx
+(:func:`deckbridge.numbering.inp.ccx_n2f_groups`), masters the faces of fixed C3D8 rings (table, stop). ccx
+gives a node of a node-based slave surface the area A_ccx (a quarter of every free face of the skirt at the
+node, measured) and the force K A_ccx d, so the slope K = k_c / A_ccx reproduces the model's k_c per node.
+Penalty, ``nlgeom: true``: one GAPUNI element per slave node, from the skirt node to a grounded node at the
+same place, stiffness k_c on its ``*GAP`` line, direction -n, the clearance and the tension for a wide
+opening f_inf = open_ratio * k_c * t. GAPUNI needs ``NLGEOM`` in 2.20 (without it reactions came out doubled),
+so it is the NLGEOM deck only. Both are frictionless: contact.friction > 0 raises :class:`DeckUnsupported`.
 
 Lagrange-type: ``*CONTACT PAIR, TYPE=MORTAR`` (dual shape functions) between the skirt's first-row base
-faces (slave) and the top faces of a fixed C3D8 ring (master, see :mod:`deckbridge.numbering.inp`). With
-MORTAR_HARD (default) the interaction has no ``*SURFACE BEHAVIOR``: ccx 2.20 then enforces hard contact
-with Lagrange multipliers (measured penetration ~1e-24 m; a ``PRESSURE-OVERCLOSURE=HARD`` card would be
-reduced to a linear penalty with hidden defaults). Otherwise it writes ``PRESSURE-OVERCLOSURE=LINEAR`` with
-the explicit slope K_m = MORTAR_FACTOR * E / h1 [Pa/m] (h1 = first-row height; penetration 1/MORTAR_FACTOR
-of the first row's elastic shortening under the same pressure). Friction, when mu > 0, has the stick
-slope K_m / 100 (ccx's advice). The radial stop is not a second mortar pair: its base nodes are also
-table slaves, and ccx 2.20 loses the output (CPRESS 0) of a node on two mortar slave surfaces; it is
-GAPUNI gaps with the slope K_m, k = K_m * A per node. The nodal contact force is printed as RF of the
-table slaves (the fixed master's RF stays 0 with mortar).
+faces (slave) and the top faces of a fixed C3D8 ring (master). With MORTAR_HARD (default) the interaction
+has no ``*SURFACE BEHAVIOR``: ccx 2.20 then enforces hard contact with Lagrange multipliers. Otherwise it
+writes ``PRESSURE-OVERCLOSURE=LINEAR`` with the slope K_m = MORTAR_FACTOR * E / h1. The radial stop is GAPUNI
+gaps with the slope K_m, k = K_m * A per node (a node on two mortar slave surfaces loses its output; mortar
+and node-to-surface cannot be mixed in one deck): so a mortar deck with a stop runs NLGEOM whatever
+analysis.nlgeom says (:func:`forces_nlgeom`; the header says it).
 
-Both decks: C3D8I skirt, circumferential SPRING1 restraint of every table slave node (cylindrical
-``*ORIENTATION``, local dof 2, stiffness mesh.k_tangent), ``*COUPLING`` + ``*DISTRIBUTING`` (dofs 1-6) or
-``*KINEMATIC`` (dofs 1-3) from the top-centre reference node; step 1 applies N, step 2 repeats N (the
-first ``*CLOAD`` on the reference node in a step replaces all earlier ones) and ramps lambda_max (T, M) in
-``steps.increments`` fixed increments (``*STATIC, DIRECT``): one ccx increment per model increment.
-Comment lines ``** deckbridge-...`` carry the model's slave table for :mod:`deckbridge.readers.calculix`.
+Both decks: C3D8I skirt, circumferential SPRING1 restraint of every table slave node, ``*COUPLING`` +
+``*DISTRIBUTING`` (dofs 1-6) or ``*KINEMATIC`` (dofs 1-3) from the top-centre reference node; step 1 applies
+N, step 2 repeats N and ramps lambda_max (T, M) with automatic incrementation (maximum increment
+1/increments) and output at the time points j/increments; ``*EL PRINT, ELSET=EBASE`` S (bottom element row).
+Units: model.units ('SI' or 'mm', :mod:`deckbridge.units`); ``** deckbridge-...`` comment lines (SI) carry
+the model's slave table for :mod:`deckbridge.readers.calculix`.
 """
 
 from __future__ import annotations
@@ -33,12 +32,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import DeckbridgeError
+from ..errors import DeckUnsupported
 from ..mesh import SkirtMesh
 from ..model import Model
-from ..numbering.inp import GapIds, Layout, ccx_gaps, ccx_layout
+from ..numbering.inp import (GapIds, Layout, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas,
+                             ccx_penalty_is_n2f)
+from ..units import scale
 from ._env import deck_paths, render
-from .inp_cards import element_lines, face_lines, id_lines, node_block, real, reals, shared_context
+from .inp_cards import clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
 MORTAR_HARD = True           # mortar table pair without *SURFACE BEHAVIOR: hard (Lagrange) contact
 MORTAR_FACTOR = 1.0e4        # K_m = MORTAR_FACTOR * E / h1 [Pa/m]: stop gaps, stick slope, LINEAR variant
@@ -46,15 +47,32 @@ STICK_SLOPE_RATIO = 1.0e-2   # friction stick slope = ratio * normal slope
 RESIDUAL_TOL = 1.0e-7        # *CONTROLS FIELD R_n (and R_p): largest residual / mean force
 CORRECTION_TOL = 1.0e-6      # *CONTROLS FIELD C_n: largest correction / largest increment of the solution
 MAX_ITER = 60                # *CONTROLS TIME INCREMENTATION I_C (I_0 = 20, I_R = I_P = I_L = MAX_ITER)
-INC_LIMIT = 1000             # *STEP, INC= (upper bound on increments; DIRECT uses exactly the given ones)
+
+
+def forces_nlgeom(model: Model, method: str) -> str | None:
+    """Why the CalculiX ``method`` deck of ``model`` runs NLGEOM although analysis.nlgeom is false, or None."""
+    if model.analysis.nlgeom:
+        return None
+    if method == "mortar" and model.contact.stop.side != "none":
+        return ("its radial stop is GAPUNI gaps, which need NLGEOM in ccx 2.20 (mortar and node-to-surface "
+                "contact cannot be mixed in one deck)")
+    return None
+
+
+def nlgeom_forced(model: Model) -> dict[str, str]:
+    """{deck file name: why it runs NLGEOM although analysis.nlgeom is false} (the dialect record's hook)."""
+    names = dict(zip(("penalty", "mortar"), deck_paths("calculix", model.name, ".")))
+    return {names[m].name: why for m in names if (why := forces_nlgeom(model, m))}
 
 
 def _common(model: Model, lay: Layout, method: str) -> dict:
     mesh = lay.mesh
+    why = forces_nlgeom(model, method)
     return {
-        **shared_context(model, lay, INC_LIMIT),
+        **shared_context(model, lay),
         "model": model,
         "method": method,
+        "step_nlgeom": model.analysis.nlgeom or why is not None, "nlgeom_reason": why or "",
         "r_n": f"{RESIDUAL_TOL:.0e}", "c_n": f"{CORRECTION_TOL:.0e}", "max_iter": MAX_ITER,
         # I_0, I_R, I_P, I_C, I_L, I_G; blank fields keep ccx's defaults for the adaptive force scales
         "time_controls": f"20, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, 4",
@@ -68,7 +86,7 @@ def _meta_lines(model: Model, mesh: SkirtMesh, method: str) -> list[str]:
     """``** deckbridge-...`` comment lines: what the reader needs without the model."""
     s = model.steps
     lines = [f"** deckbridge-job method={method} n_nodes={mesh.n_nodes} lambda_max={real(s.lambda_max)} "
-             f"increments={s.increments}",
+             f"increments={s.increments} units={model.units}",
              "** deckbridge-slave node surface theta_deg r z area nx ny nz clearance"]
     for ss in (mesh.table, mesh.stop):
         if ss is None:
@@ -87,6 +105,7 @@ def _gaps(model: Model, mesh: SkirtMesh, gap_ids: GapIds, k_of) -> dict:
     f_inf = open_ratio * k_c * t with the model's own penalty k_c (never the stiffer mortar-like one).
     """
     t = model.geometry.thickness
+    u = scale(model.units)
     k = [k_of(ss) for ss in gap_ids.sets]
     gaps = []
     for s_i, i, slave, node, elem in zip(gap_ids.set_index, gap_ids.row, gap_ids.slave, gap_ids.ground,
@@ -95,23 +114,57 @@ def _gaps(model: Model, mesh: SkirtMesh, gap_ids: GapIds, k_of) -> dict:
         gaps.append({"elset": f"GAP_{ss.surface.upper()}_{slave}", "id": int(elem),
                      "elem": f"{elem}, {slave}, {node}",
                      # 10 digits: the line must stay within ccx's 132 characters
-                     "line": f"{real(ss.clearance[i], 10)}, {reals(-ss.normal[i], 10)}, , {real(k[s_i][i], 10)}, "
-                             f"{real(mesh.k_open_ratio * ss.k[i] * t, 10)}"})
+                     "line": f"{real(ss.clearance[i] * u.length, 10)}, {reals(clean(-ss.normal[i]), 10)}, , "
+                             f"{real(k[s_i][i] * u.stiffness, 10)}, "
+                             f"{real(mesh.k_open_ratio * ss.k[i] * t * u.force, 10)}"})
     ground_xyz = mesh.nodes[gap_ids.slave - 1]
     return {"ground": ("NGROUND", np.asarray(gap_ids.ground, int), np.array(ground_xyz, float).reshape(-1, 3)),
             "gaps": gaps,
             "gap_elems": id_lines([g["id"] for g in gaps])}
 
 
-def penalty_context(model: Model, mesh: SkirtMesh) -> dict:
+def check_supported(model: Model) -> None:
+    """Raise :class:`DeckUnsupported` (before anything is written) when the penalty deck cannot carry the model."""
     if model.contact.friction > 0:
-        raise DeckbridgeError(f"contact.friction = {model.contact.friction:g}: the CalculiX penalty deck uses "
-                              "GAPUNI gap elements, which are frictionless: set it to 0, or leave out the calculix "
-                              "dialect (--dialect)")
+        raise DeckUnsupported("calculix", f"contact.friction = {model.contact.friction:g}: the CalculiX penalty deck "
+                              "is frictionless (GAPUNI gaps / node-to-surface without *FRICTION): set it to 0, or "
+                              "leave out the calculix dialect (--dialect)")
+
+
+def _n2f(model: Model, mesh: SkirtMesh, lay: Layout) -> dict:
+    """Node-to-surface LINEAR groups, master surfaces and the ``** deckbridge-n2f`` area lines."""
+    u = scale(model.units)
+    t = model.geometry.thickness
+    rings = {"TABLE": lay.table_master, "STOP": lay.stop_master}
+    masters = [{"name": n, "faces": face_lines(r.elem_ids, r.face)} for n, r in rings.items() if r is not None]
+    groups = [{"name": g.name, "master": g.surface.upper(), "nodes": id_lines(g.nodes, 1),   # ccx: one node a line
+               "line": f"{real(g.slope * u.stress / u.length)}, "
+                       f"{real(mesh.k_open_ratio * g.slope * t * u.stress)}"} for g in ccx_n2f_groups(mesh)]
+    a_ccx = ccx_node_slave_areas(mesh)
+    meta = ["** deckbridge-n2f node surface area_ccx (m^2: ccx's area of the node-based slave node)"]
+    for ss in (mesh.table, mesh.stop):
+        if ss is not None:
+            meta += [f"** deckbridge-n2f {n + 1} {ss.surface} {real(a_ccx[n])}" for n in ss.nodes]
+    rs = [r for r in rings.values() if r is not None]
+    return {"masters": masters, "groups": groups, "n2f_meta": meta,
+            "master_elems": "\n".join(element_lines(r.elem_ids, r.conn) for r in rs),
+            "master_nodes": ("NMASTER", np.concatenate([r.node_ids for r in rs]), np.vstack([r.nodes for r in rs]))}
+
+
+def penalty_context(model: Model, mesh: SkirtMesh) -> dict:
+    check_supported(model)
     lay = ccx_layout(model, mesh, "penalty")
     ctx = _common(model, lay, "penalty")
     ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "penalty", lay), lambda ss: ss.k))
-    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"]]))
+    n2f = ccx_penalty_is_n2f(model)
+    ctx["n2f"] = n2f
+    groups = [ctx["ground"]]
+    if n2f:
+        extra = _n2f(model, mesh, lay)
+        ctx.update(extra)
+        ctx["meta"] = ctx["meta"] + extra["n2f_meta"]
+        groups = [extra["master_nodes"]]
+    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, groups, scale(model.units).length))
     return ctx
 
 
@@ -125,19 +178,23 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
     ctx = _common(model, lay, "mortar")
     tm = lay.table_master
     km = mortar_slope(model, lay)
+    u = scale(model.units)
+    km_deck = km * u.stress / u.length
     mu = model.contact.friction
     ctx.update(table_slave=face_lines(lay.base_elems, "S1"), table_master=face_lines(tm.elem_ids, tm.face),
                master_elems=element_lines(tm.elem_ids, tm.conn),
-               mortar_k=real(km), mortar_hard=MORTAR_HARD, friction=mu > 0, friction_line=f"{real(mu)}, {real(STICK_SLOPE_RATIO * km)}",
-               mortar_factor=real(MORTAR_FACTOR), h1=real(lay.first_row_height))
+               mortar_k=real(km_deck), mortar_hard=MORTAR_HARD, friction=mu > 0,
+               friction_line=f"{real(mu)}, {real(STICK_SLOPE_RATIO * km_deck)}",
+               mortar_factor=real(MORTAR_FACTOR), h1=real(lay.first_row_height * u.length))
     ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "mortar", lay), lambda ss: km * ss.area))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
-                          [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]]))
+                          [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]], u.length))
     return ctx
 
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the CalculiX penalty (GAPUNI) and mortar decks into ``outdir``."""
+    check_supported(model)
     paths = dict(zip(("penalty", "mortar"), deck_paths("calculix", model.name, outdir)))
     out = []
     for method, ctx_fn, tpl in (("penalty", penalty_context, "penalty.inp.j2"),
