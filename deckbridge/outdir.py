@@ -128,9 +128,11 @@ def remove_if_empty(folder: str | Path) -> None:
     if not p.is_dir():
         return
     for root, dirs, files in os.walk(p, topdown=False):
-        if files:
+        if set(files) - {LOCK, MARKER}:
             return
         with contextlib.suppress(OSError):
+            for name in files:
+                os.unlink(os.path.join(root, name))
             os.rmdir(root)
 
 
