@@ -30,6 +30,7 @@ import pandas as pd
 
 from ..errors import DeckbridgeError
 from . import register
+from ._checks import checked
 from ._nodemap import locate, surface_of
 
 _NUM = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[EeDd][-+]?\d+)?"
@@ -145,6 +146,7 @@ def _surface(raw: pd.DataFrame, located: pd.DataFrame) -> np.ndarray:
 
 
 @register("abaqus_dat", detect=detect)
+@checked(None)
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read the contact print tables of an Abaqus .dat file into the tidy table."""
     from ..model import load

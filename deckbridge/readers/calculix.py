@@ -34,6 +34,7 @@ import pandas as pd
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from . import register
+from ._checks import checked
 
 SOURCE = "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
@@ -350,6 +351,7 @@ def _check_coords(frd: Path, coords: dict, sl: Slaves, model) -> None:
 
 
 @register("calculix", detect=detect)
+@checked("ccx")
 def read(path: Path, model=None) -> pd.DataFrame:
     """Contact table of the ccx job(s) at ``path`` (a .frd/.dat/.inp file or a folder)."""
     path = Path(path)

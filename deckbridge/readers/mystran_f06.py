@@ -29,6 +29,7 @@ import pandas as pd
 from ..errors import DeckbridgeError
 from ..model import Model
 from . import register
+from ._checks import checked
 from .nastran_op2 import contact_map
 
 _HEADER = re.compile(r"F O R\s+E L E M E N T\s+T Y P E\s+E L A S 2\b")
@@ -75,6 +76,7 @@ def _detect(path: Path) -> bool:
 
 
 @register("mystran_f06", detect=_detect)
+@checked(None, unknown_load_factor=True)
 def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the contact springs of a MYSTRAN linear run."""
     path = Path(path)

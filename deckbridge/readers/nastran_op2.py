@@ -36,6 +36,7 @@ from ..errors import DeckbridgeError
 from ..mesh import azimuth_deg, build_mesh
 from ..model import Model
 from . import register
+from ._checks import checked
 
 GAP_FORCE_COLUMNS = ["element", "subcase", "increment", "time", "table", "force_n", "axial_u_m",
                      "u0_m", "opening_m", "status"]
@@ -233,6 +234,7 @@ def _detect(path: Path) -> bool:
 
 
 @register("nastran_op2", detect=_detect)
+@checked("one")
 def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the gap results in a Nastran OP2 (force table preferred, else OESNLXR)."""
     path = Path(path)

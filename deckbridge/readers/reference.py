@@ -16,6 +16,7 @@ import pandas as pd
 from ..errors import DeckbridgeError
 from ..results import COLUMNS, ResultsError, conform
 from . import register
+from ._checks import checked
 from ._nodemap import locate
 
 THETA_TOL_DEG = 1e-3
@@ -44,6 +45,7 @@ def detect(path: Path) -> bool:
 
 
 @register("reference", detect=detect)
+@checked(None)
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read contact.csv of a reference output folder (or the csv itself) into the tidy table."""
     src = contact_csv(Path(path))

@@ -65,7 +65,7 @@ def _connect(scheduler: str, timeout_s: float):
 
     def make():
         try:
-            box["client"] = Client(scheduler, timeout=timeout_s, set_as_default=False)
+            box["client"] = Client(scheduler, timeout=timeout_s)
         except BaseException as exc:  # noqa: BLE001  (reported below as one line)
             box["error"] = exc
 
@@ -123,7 +123,7 @@ def open_client(scheduler: str | None = None, workers: int | None = None, proces
     except Exception as exc:      # noqa: BLE001  (any start failure ends as one line)
         raise RunError(f"local Dask cluster of {n} workers: cannot start ({_first_line(exc)})") from None
     try:
-        client = Client(cluster, timeout=timeout_s, set_as_default=False)
+        client = Client(cluster, timeout=timeout_s)
     except Exception as exc:      # noqa: BLE001
         cluster.close()
         raise RunError(f"local Dask cluster of {n} workers: no client ({_first_line(exc)})") from None
