@@ -30,7 +30,10 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     """Run the main job on ``model`` into ``outdir``; return {'report': path, 'summary': dict, ...}."""
     out = prepare(outdir)
     t0 = time.perf_counter()
-    decks = render_all(model, out / "decks")
+    skip = ["calculix"] if model.contact.friction > 0 else []    # its GAPUNI penalty deck is frictionless
+    decks = render_all(model, out / "decks", [d for d in ("abaqus", "calculix", "mystran", "nastran") if d not in skip])
+    if skip:
+        echo(f"note: contact.friction = {model.contact.friction:g}: no {', '.join(skip)} decks (they cannot model friction)")
     echo(f"decks: {len(decks)} files in {out / 'decks'}")
 
     mesh, system = condense_model(model)

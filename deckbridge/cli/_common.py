@@ -22,6 +22,7 @@ import click
 from .. import limits, outdir as outdir_mod
 from ..errors import EXIT_INPUT, EXIT_RUN, DeckbridgeError
 from ..model import Model, load
+from ..readers._checks import compare_up_to
 from ..results import ResultsError
 from ..textsafe import one_line
 
@@ -153,8 +154,10 @@ def guard_outputs(command: click.Command) -> None:
         sources = tuple(kwargs.get("sources") or ())
         out = outdir_mod.check_target(target, command.name, force=force, sources=sources)
         existed = out.exists()
+        lfs = [lf for lf in (kwargs.get("load_factors") or ()) if lf == lf]
         try:
-            result = callback(*args, **kwargs)
+            with compare_up_to(max(lfs) if lfs else None):     # results may end at the last one asked for
+                result = callback(*args, **kwargs)
         except BaseException:
             if not existed:
                 outdir_mod.remove_if_empty(out)

@@ -234,7 +234,7 @@ def _detect(path: Path) -> bool:
 
 
 @register("nastran_op2", detect=_detect)
-@checked("one")
+@checked(None)
 def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the gap results in a Nastran OP2 (force table preferred, else OESNLXR)."""
     path = Path(path)
