@@ -215,6 +215,16 @@ def test_compare_refuses_to_write_into_a_source_or_another_commands_folder(tmp_p
     assert cli(["compare", lag, pen, "-o", solved]).exit_code == 0          # its own folder: rewritten
 
 
+def test_corrupt_vtu_and_deep_json_beside_a_source_do_not_stop_the_comparison(tmp_path, two_reference_folders):
+    """meshio prints and calls sys.exit(1) on a corrupt result.vtu; json recurses on deep nesting."""
+    pen, lag = two_reference_folders
+    (pen / "result.vtu").write_text("<VTKFile garbage")
+    (lag / "summary.json").write_text("[" * 100_000 + "]" * 100_000)
+    res = cli(["compare", pen, lag, "-o", tmp_path / "cmp"])
+    assert res.exit_code == 0, res.output
+    assert "Error" not in res.output and (tmp_path / "cmp" / "report.html").is_file()
+
+
 def test_empty_output_path_is_refused(tmp_path):
     os.chdir(tmp_path)
     one_error_line(cli(["decks", *SMALL, "-o", ""]), 2, "-o = '': give an output folder")

@@ -55,10 +55,14 @@ def _last_step(names, pattern) -> str | None:
 
 
 def _read_vtu(path: Path):
+    import contextlib
+    import io
+
     import meshio
     try:
-        return meshio.read(path)
-    except Exception:       # an unreadable vtu only costs the global table its row
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            return meshio.read(path)    # on a corrupt file meshio prints "Error: ..." and calls sys.exit(1)
+    except (Exception, SystemExit):     # an unreadable vtu only costs the global table its row
         return None
 
 
@@ -102,7 +106,7 @@ def global_metrics(origin, method: str | None = None) -> dict:
     if summary.is_file():
         try:
             leaves = list(_leaves(json.loads(summary.read_text())))
-        except (OSError, ValueError):
+        except (OSError, ValueError, RecursionError):
             leaves = []
         vm, u = _pick(leaves, _MISES, method), _pick(leaves, _DISP, method)
         if vm is not None:
