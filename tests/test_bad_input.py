@@ -225,6 +225,11 @@ def test_corrupt_vtu_and_deep_json_beside_a_source_do_not_stop_the_comparison(tm
     assert "Error" not in res.output and (tmp_path / "cmp" / "report.html").is_file()
 
 
+@pytest.mark.parametrize("fmt", ["plain_csv", "abaqus_dat", "mystran_f06", "nastran_op2", "calculix", "reference"])
+def test_a_device_as_a_source_is_refused_without_reading_it(tmp_path, fmt):
+    one_error_line(cli(["compare", "--format", fmt, "/dev/zero", "-o", tmp_path / "o"]), 2, "'/dev/zero'")
+
+
 def test_empty_output_path_is_refused(tmp_path):
     os.chdir(tmp_path)
     one_error_line(cli(["decks", *SMALL, "-o", ""]), 2, "-o = '': give an output folder")

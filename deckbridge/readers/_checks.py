@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import functools
+import io
 import re
 import struct
 from pathlib import Path
@@ -57,10 +58,13 @@ def checked(complete: str | None = None, unknown_load_factor: bool = False) -> C
         @functools.wraps(read)
         def wrapper(path, model=None, **kw):
             p = Path(path)
+            if p.exists() and not (p.is_file() or p.is_dir()):
+                raise InputError(f"{str(p)!r}: not a regular file or folder (device, pipe or socket)")
             try:
                 if complete == "ccx":
                     check_ccx_files(p)
-                df = read(path, model=model, **kw)
+                with contextlib.redirect_stdout(io.StringIO()):     # libraries that print on bad input
+                    df = read(path, model=model, **kw)
             except (DeckbridgeError, MemoryError, KeyboardInterrupt):
                 raise
             except RecursionError:
