@@ -84,8 +84,7 @@ class _Group(click.Group):
         except ValueError:           # not the main thread (tests may run commands in threads)
             pass
         try:
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("default")
+            with warnings.catch_warnings(record=True) as caught:   # the filters in force stay as they are
                 try:
                     result = super().invoke(ctx)
                 except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException, KeyboardInterrupt):
@@ -96,8 +95,8 @@ class _Group(click.Group):
                     msg, code = _describe(exc)
                     click.echo(f"deckbridge: error: {msg}", err=True)
                     ctx.exit(code)
-            for w in caught:
-                click.echo(f"deckbridge: warning: {one_line(w.message)}", err=True)
+            for w in caught:                                       # shown after success only
+                click.echo(f"deckbridge: warning: {one_line(w.message)} ({w.category.__name__})", err=True)
             return result
         finally:
             if old is not None:
