@@ -50,6 +50,9 @@ class ModelError(InputError, ValueError):
         self.key, self.value, self.reason, self.source = key, value, reason, source
         super().__init__(key, reason)
 
+    def __reduce__(self):          # picklable (Dask workers send errors back)
+        return (type(self), (self.key, self.value, self.reason, self.source))
+
     def __str__(self) -> str:
         head = f"{one_line(self.source)}: " if self.source else ""
         return f"{head}{one_line(self.key)} = {show(self.value)}: {one_line(self.reason)}"
