@@ -17,6 +17,9 @@ from typing import Any, Mapping
 
 import yaml
 
+from . import safe_yaml
+from .errors import ModelError
+
 __all__ = [
     "ModelError", "Geometry", "MeshSpec", "Material", "Stop", "Penalty", "Contact",
     "Loads", "Steps", "Analysis", "Outputs", "Model", "default_text", "load", "loads_model",
@@ -24,29 +27,30 @@ __all__ = [
 ]
 
 UNITS = ("SI", "mm")   # deck units: SI = N, m, Pa, kg; mm = N, mm, MPa, t (the model itself is always SI)
-NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,39}$")
+NAME_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,39}")   # used with fullmatch: "JAR\n" is refused
+_DECIMAL = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+MAX_ABS = 1.0e30          # no SI input of this model comes near; beyond it products overflow
+MAX_INCREMENTS = 10_000   # steps.increments: CalculiX decks carry INC > increments; 10^4 solves is hours
+NU_MAX = 0.49             # nu closer to 0.5 locks the hexahedra (Lagrange lambda_c 0.537 -> 0.018)
 
-
-class ModelError(ValueError):
-    """Invalid model input; ``str(err)`` is one line: ``key = value: reason``."""
-
-    def __init__(self, key: str, value: Any, reason: str):
-        self.key, self.value, self.reason = key, value, reason
-        super().__init__(f"{key} = {value!r}: {reason}")
 
 
 def _num(key: str, value: Any, *, gt: float | None = None, ge: float | None = None,
          lt: float | None = None) -> float:
-    if isinstance(value, str):  # YAML 1.1 reads 1.0e9 (no exponent sign) as a string
-        try:
-            value = float(value.strip())
-        except ValueError:
-            raise ModelError(key, value, "must be a number") from None
+    if isinstance(value, str):  # a number given as text (e.g. by a caller); decimal only
+        if len(value) > 64 or not _DECIMAL.fullmatch(value.strip()):
+            raise ModelError(key, value, "must be a number")
+        value = float(value.strip())
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ModelError(key, value, "must be a number")
-    v = float(value)
+    try:
+        v = float(value)
+    except OverflowError:
+        raise ModelError(key, value, f"must be finite, at most {MAX_ABS:g} in magnitude") from None
     if not math.isfinite(v):
         raise ModelError(key, value, "must be finite")
+    if abs(v) > MAX_ABS:
+        raise ModelError(key, value, f"must be at most {MAX_ABS:g} in magnitude (SI units)")
     if gt is not None and not v > gt:
         raise ModelError(key, value, f"must be > {gt:g}")
     if ge is not None and not v >= ge:
@@ -60,14 +64,16 @@ def _opt_num(key: str, value: Any, **bounds) -> float | None:
     return None if value is None else _num(key, value, **bounds)
 
 
-def _int(key: str, value: Any, *, ge: int) -> int:
+def _int(key: str, value: Any, *, ge: int, le: int | None = None) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
-        if isinstance(value, float) and value.is_integer():
+        if isinstance(value, float) and math.isfinite(value) and value.is_integer() and abs(value) < 2.0 ** 53:
             value = int(value)
         else:
             raise ModelError(key, value, "must be an integer")
     if value < ge:
         raise ModelError(key, value, f"must be >= {ge}")
+    if le is not None and value > le:
+        raise ModelError(key, value, f"must be <= {le}")
     return int(value)
 
 
@@ -104,6 +110,11 @@ class Geometry:
         _put(self, "thickness", _num("geometry.thickness", self.thickness, gt=0))
         if self.thickness >= self.radius:
             raise ModelError("geometry.thickness", self.thickness, "must be smaller than geometry.radius")
+        if self.thickness < 1e-4 * self.radius:
+            raise ModelError("geometry.thickness", self.thickness, "must be at least 1e-4 x geometry.radius "
+                             "(thinner walls make the stiffness matrix singular in double precision)")
+        if not 1e-4 <= self.height / self.radius <= 1e4:
+            raise ModelError("geometry.height", self.height, "must be within 1e-4 and 1e4 x geometry.radius")
         if self.top_radius is not None:
             _put(self, "top_radius", _num("geometry.top_radius", self.top_radius, gt=0))
             if self.thickness >= self.top_radius:
@@ -122,9 +133,9 @@ class MeshSpec:
     n_r: int = 2
 
     def __post_init__(self):
-        _put(self, "n_theta", _int("mesh.n_theta", self.n_theta, ge=8))
-        _put(self, "n_z", _int("mesh.n_z", self.n_z, ge=1))
-        _put(self, "n_r", _int("mesh.n_r", self.n_r, ge=1))
+        _put(self, "n_theta", _int("mesh.n_theta", self.n_theta, ge=8, le=10**7))
+        _put(self, "n_z", _int("mesh.n_z", self.n_z, ge=1, le=10**7))
+        _put(self, "n_r", _int("mesh.n_r", self.n_r, ge=1, le=10**4))
 
 
 @dataclass(frozen=True)
@@ -137,7 +148,10 @@ class Material:
     def __post_init__(self):
         _text("material.name", self.name, max_len=60)
         _put(self, "E", _num("material.E", self.E, gt=0))
-        _put(self, "nu", _num("material.nu", self.nu, gt=-1.0, lt=0.5))
+        _put(self, "nu", _num("material.nu", self.nu, gt=-1.0))
+        if not self.nu < NU_MAX:
+            raise ModelError("material.nu", self.nu, f"must be < {NU_MAX:g}: the hexahedral elements lock as nu "
+                             "approaches 0.5 (contact stresses and liftoff become wrong without warning)")
 
     @property
     def bulk_modulus(self) -> float:
@@ -236,7 +250,7 @@ class Steps:
 
     def __post_init__(self):
         _put(self, "lambda_max", _num("steps.lambda_max", self.lambda_max, gt=0))
-        _put(self, "increments", _int("steps.increments", self.increments, ge=1))
+        _put(self, "increments", _int("steps.increments", self.increments, ge=1, le=MAX_INCREMENTS))
 
 
 @dataclass(frozen=True)
@@ -280,7 +294,7 @@ class Model:
     outputs: Outputs = field(default_factory=Outputs)
 
     def __post_init__(self):
-        if not isinstance(self.name, str) or not NAME_RE.match(self.name):
+        if not isinstance(self.name, str) or not NAME_RE.fullmatch(self.name):
             raise ModelError("name", self.name,
                              "must be 1-40 letters, digits, '_', '-', '.' starting with a letter or digit")
         _text("title", self.title)
@@ -364,8 +378,12 @@ def parse_override(text: str) -> tuple[str, Any]:
     key = key.strip()
     if not key:
         raise ModelError("--set", text, "empty key")
+    if len(text) > 4096:
+        raise ModelError("--set", text, "longer than 4096 characters")
     try:
-        value = yaml.safe_load(raw) if raw.strip() else None
+        value = safe_yaml.load(raw) if raw.strip() else None
+    except safe_yaml.StrictYAMLError as exc:
+        raise ModelError(key, raw, str(exc).removeprefix("line 1: ")) from None
     except yaml.YAMLError:
         value = raw
     return key, value
@@ -400,16 +418,27 @@ def default_text() -> str:
 
 
 def loads_model(text: str, source: str = "<string>") -> Model:
-    """Build a model from YAML text (safe loader)."""
+    """Build a model from YAML text (:mod:`.safe_yaml`: no aliases, no duplicate keys, YAML 1.2 numbers).
+
+    An empty document (nothing but comments) is refused: it is not "the default model".
+    Errors name ``source``.
+    """
     try:
-        data = yaml.safe_load(text)
+        data = safe_yaml.load(text)
+    except safe_yaml.StrictYAMLError as exc:
+        raise ModelError("model", "<yaml>", f"not valid YAML: {exc}", source=source) from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
-        where = f" line {mark.line + 1}" if mark is not None else ""
-        raise ModelError(source, "<yaml>", f"not valid YAML{where}") from None
+        where = f": line {mark.line + 1}" if mark is not None else ""
+        raise ModelError("model", "<yaml>", f"not valid YAML{where}", source=source) from None
     if data is None:
-        data = {}
-    return Model.from_dict(data)
+        raise ModelError("model", "<empty>", "the file holds no model (for the default JAR give no MODEL, "
+                         "or write it with 'deckbridge init')", source=source)
+    try:
+        return Model.from_dict(data)
+    except ModelError as exc:
+        exc.source = exc.source or source
+        raise
 
 
 def load(path: str | Path | None = None, overrides: list[str] | Mapping[str, Any] | None = None) -> Model:
@@ -419,9 +448,9 @@ def load(path: str | Path | None = None, overrides: list[str] | Mapping[str, Any
     else:
         p = Path(path)
         try:
-            text = p.read_text()
-        except OSError as exc:
-            raise ModelError("model", str(p), f"cannot read file ({exc.strerror})") from None
+            text = safe_yaml.read_model_text(p)
+        except ValueError as exc:
+            raise ModelError("model", str(p), str(exc)) from None
         source = str(p)
     model = loads_model(text, source)
     if overrides:

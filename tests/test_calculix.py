@@ -201,7 +201,7 @@ def test_reader_refuses_other_models_and_empty_files(small_job, tmp_path):
     cut = tmp_path / "JAR_ccx_lagrange.frd"                    # nodes and DISP only, no CONTACT block
     cut.write_text("\n".join(frd[:frd.index(next(ln for ln in frd if "CONTACT" in ln)) - 3]) + "\n")
     shutil.copy(folder / "JAR_ccx_lagrange.inp", tmp_path)
-    with pytest.raises(DeckbridgeError, match=r"JAR_ccx_lagrange.frd.*no CONTACT block"):
+    with pytest.raises(DeckbridgeError, match=r"JAR_ccx_lagrange.frd.*(no CONTACT block|truncated)"):
         reader.read(cut)
     with pytest.raises(DeckbridgeError, match="no such file"):
         reader.read(tmp_path / "missing.frd")

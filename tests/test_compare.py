@@ -208,7 +208,8 @@ def test_compare_command_writes_the_four_outputs(tmp_path, small_model):
     out = tmp_path / "out"
     r = CliRunner().invoke(main, ["compare", str(pen), str(lag), "-o", str(out), "--model", str(tmp_path / "m.yaml")])
     assert r.exit_code == 0, r.output
-    assert sorted(p.name for p in out.iterdir()) == ["discrepancy.csv", "report.html", "sigma_n.png", "summary.json"]
+    assert sorted(p.name for p in out.iterdir()) == [".deckbridge-output", "discrepancy.csv", "report.html",
+                                                     "sigma_n.png", "summary.json"]    # the marker names the command
     s = json.loads((out / "summary.json").read_text())
     assert s["load_factors"] == pytest.approx([0.0, 0.6, 1.0])
     lam_c = small_model.loads.N * small_model.geometry.radius / (2 * small_model.base_moment)

@@ -79,7 +79,7 @@ def test_yaml_is_loaded_safely():
 def test_unknown_top_level_key_in_file(tmp_path):
     p = tmp_path / "m.yaml"
     p.write_text("name: X\nmaterial: {E: 1.0e+9, nu: 0.3, density: 7800}\n")
-    with pytest.raises(ModelError, match=r"^material\.density = 7800: unknown key$"):
+    with pytest.raises(ModelError, match=r"m\.yaml: material\.density = 7800: unknown key$"):
         load(p)
 
 

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import click
 
+from .. import limits
 from ..errors import DeckbridgeError
-from ..outdir import staged
+from ..outdir import lock, remove_stale, staged
 from ..studies.cases import mesh_variants, parse_k_factors, parse_mesh_options
 from ..studies.liftoff import critical_load, format_table
 from ..studies.metrics import rnd
@@ -43,13 +45,20 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, tol, load_factors, open_stiff
     from ..studies.cluster import open_client
     from ..studies.sweep import check_options, run_sweep
 
+    _check_sizes(k_factors, mesh_opts, load_factors, workers)   # counted before anything is expanded
     ks = parse_k_factors(k_factors)
     meshes = parse_mesh_options(mesh_opts)
     check_options(ks, tol, open_stiffness, strategy, model, list(load_factors))
-    mesh_variants(model, meshes)                 # a bad mesh value fails here, before any work
-    with open_client(scheduler, workers) as client:
-        out = run_sweep(model, ks, outdir, meshes=meshes, tol=tol, load_factors=list(load_factors) or None,
-                        open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True)
+    variants = mesh_variants(model, meshes)      # a bad mesh value fails here, before any work
+    allow_large = click.get_current_context().meta.get("deckbridge.allow_large", False)
+    n_workers = workers or (1 if scheduler else os.cpu_count() or 1)
+    for v in variants:
+        limits.check_memory(v.model, allow_large, copies=min(n_workers, len(ks) + 1), what=" (--mesh)")
+    with lock(outdir, "another sweep"):
+        remove_stale(outdir)                     # temporaries of a killed run
+        with open_client(scheduler, workers) as client:
+            out = run_sweep(model, ks, outdir, meshes=meshes, tol=tol, load_factors=list(load_factors) or None,
+                            open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True)
     s, run = out["summary"], out["run"]
     click.echo(f"{len(run['computed'])} cases computed, {len(run['reused'])} reused from {Path(outdir) / 'cases'}"
                + (f", {len(run['failed_now'])} failed" if run["failed_now"] else "")
@@ -75,6 +84,19 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, tol, load_factors, open_stiff
         click.echo(f"wrote {p}")
 
 
+def _check_sizes(k_factors: str, mesh_opts, load_factors, workers) -> None:
+    """Caps on the size of a study, from the option text alone (nothing expanded yet)."""
+    n_k = str(k_factors).count(",") + 1
+    limits.check_count("--k-factors", n_k, limits.MAX_K_FACTORS, "k-factors")
+    n_mesh = 1
+    for opt in mesh_opts:
+        n_mesh *= opt.count(",") + 1
+        limits.check_count("--mesh", n_mesh, limits.MAX_MESH_VARIANTS, "mesh variants")
+    limits.check_count("--k-factors x --mesh", n_mesh * (n_k + 1), limits.MAX_CASES, "cases")
+    limits.check_count("--load-factor", len(load_factors), limits.MAX_LOAD_FACTORS, "load factors")
+    limits.check_workers(workers)
+
+
 def _f(v) -> str:
     return "none" if v is None else f"{v:.4f}"
 
@@ -94,6 +116,7 @@ def liftoff_cmd(model, method, tol, k_factor, outdir):
     methods = ("penalty", "lagrange") if method == "both" else (method,)
     if k_factor is not None and "penalty" not in methods:
         raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method penalty or both")
+    limits.check_liftoff_tol(tol, model.steps.lambda_max)
     res = critical_load(model, methods, tol=tol, k_factor=1.0 if k_factor is None else k_factor)
     click.echo(format_table(res))
     if outdir is not None:

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from ..errors import DeckbridgeError
+from ..errors import DeckbridgeError, RunError
 
 _PROGRESS = re.compile(r"^\s*(increment \d+ attempt \d+|iteration \d+|STEP\s+\d+|Job finished)", re.I)
 _JOB_SCRATCH = (".12d", ".cvg", ".rout")
@@ -40,7 +40,7 @@ def binary() -> str:
     """The ccx executable: $DECKBRIDGE_CCX, else ``ccx`` on the PATH."""
     exe = os.environ.get("DECKBRIDGE_CCX") or shutil.which("ccx")
     if not exe or not Path(exe).is_file():
-        raise DeckbridgeError("CalculiX: 'ccx' not found on the PATH (apt-get install calculix-ccx, "
+        raise RunError("CalculiX: 'ccx' not found on the PATH (apt-get install calculix-ccx, "
                               "or set DECKBRIDGE_CCX)")
     return exe
 
@@ -89,7 +89,7 @@ def run(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], No
         proc = subprocess.Popen([exe, "-i", deck.stem], cwd=deck.parent, stdout=subprocess.PIPE,
                                 stderr=subprocess.STDOUT, text=True, errors="replace", env=env)
     except OSError as exc:
-        raise DeckbridgeError(f"CalculiX: cannot start {exe!r} ({exc.strerror})") from None
+        raise RunError(f"CalculiX: cannot start {exe!r} ({exc.strerror})") from None
     lines: list[str] = []
 
     def pump():
@@ -105,7 +105,7 @@ def run(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], No
     except subprocess.TimeoutExpired:
         proc.kill()
         proc.wait()
-        raise DeckbridgeError(f"{str(deck)!r}: ccx ran longer than {timeout_s:g} s and was stopped") from None
+        raise RunError(f"{str(deck)!r}: ccx ran longer than {timeout_s:g} s and was stopped") from None
     except BaseException:          # interrupted: do not leave ccx running
         proc.kill()
         proc.wait()
@@ -120,7 +120,7 @@ def run(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], No
     err = _first_error(lines) or _first_error(sta_lines)
     if err or code != 0 or not any("Job finished" in ln for ln in lines):
         why = err or f"exit {code} without 'Job finished'"
-        raise DeckbridgeError(f"{str(deck)!r}: ccx failed (exit {code}): {why}")
+        raise RunError(f"{str(deck)!r}: ccx failed (exit {code}): {why}")
     increments = sum(1 for ln in sta_lines if re.match(r"^\s*\d+\s+\d+\s+\d+\s+\d+\s", ln))
     return CcxRun(deck=deck, dat=deck.with_suffix(".dat"), frd=deck.with_suffix(".frd"), sta=sta,
                   seconds=seconds, increments=increments)

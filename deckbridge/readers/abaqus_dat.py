@@ -34,6 +34,7 @@ from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ._files import read_text
 from ._registry import register
+from ._checks import checked
 from ._nodemap import locate, surface_of
 from ..units import scale
 
@@ -160,6 +161,7 @@ def _deck_units(path: Path, model) -> str:
 
 
 @register("abaqus_dat", detect=detect)
+@checked(None)
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read the contact print tables of an Abaqus .dat file into the tidy table."""
     from ..model import load

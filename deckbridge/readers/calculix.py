@@ -41,6 +41,7 @@ from ..numbering.inp import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_
 from ..units import scale
 from ._registry import register
 from .ccx_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
+from ._checks import checked
 
 SOURCE = DIALECTS["calculix"].source   # "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
@@ -281,6 +282,7 @@ def _check_coords(frd: Path, coords: dict, sl: Slaves, model) -> None:
 
 
 @register("calculix", detect=detect)
+@checked("ccx")
 def read(path: Path, model=None) -> pd.DataFrame:
     """Contact table of the ccx job(s) at ``path`` (a .frd/.dat/.inp file or a folder)."""
     path = Path(path)

@@ -35,6 +35,7 @@ from ..numbering.nastran import gap_layout
 from ._files import read_text
 from ._registry import register
 from .nastran_op2 import contact_map, result_units
+from ._checks import checked
 
 _HEADER = re.compile(r"F O R\s+E L E M E N T\s+T Y P E\s+E L A S 2\b")
 _SUBCASE = re.compile(r"OUTPUT FOR SUBCASE\s+(\d+)")
@@ -77,6 +78,7 @@ def _detect(path: Path) -> bool:
 
 
 @register("mystran_f06", detect=_detect)
+@checked(None, unknown_load_factor=True)
 def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the contact springs of a MYSTRAN linear run."""
     path = Path(path)

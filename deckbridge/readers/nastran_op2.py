@@ -48,6 +48,7 @@ from ..units import Units, scale
 from ._registry import register
 
 _UNITS_LINE = re.compile(r"^\$\s*deckbridge-units:\s*(SI|mm)\s*$")
+from ._checks import checked
 
 GAP_FORCE_COLUMNS = ["element", "subcase", "increment", "time", "table", "force_n", "axial_u_m",
                      "u0_m", "opening_m", "status"]
@@ -272,6 +273,7 @@ def _detect(path: Path) -> bool:
 
 
 @register("nastran_op2", detect=_detect)
+@checked(None)
 def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the gap results in a Nastran OP2 (force table preferred, else OESNLXR)."""
     path = Path(path)

@@ -26,6 +26,7 @@ import pandas as pd
 from ..errors import DeckbridgeError
 from ..results import COLUMNS
 from ._registry import register
+from ._checks import checked
 from ._nodemap import locate, surface_of
 
 _STRESS_UNITS = {"pa": 1.0, "n/m2": 1.0, "n/m^2": 1.0, "kpa": 1e3, "mpa": 1e6, "n/mm2": 1e6, "n/mm^2": 1e6,
@@ -111,6 +112,7 @@ def _factor(path, col: str, unit: str | None, table: dict[str, float], default: 
 
 
 @register("plain_csv", detect=detect)
+@checked("never")
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read a post-processor CSV export into the tidy table (sign and unit from the header)."""
     from ..model import load

@@ -25,6 +25,7 @@ import pandas as pd
 from ..errors import DeckbridgeError
 from ..results import COLUMNS, ResultsError, SourceResult, conform
 from ._registry import register
+from ._checks import checked
 from ._nodemap import locate
 
 THETA_TOL_DEG = 1e-3
@@ -53,6 +54,7 @@ def detect(path: Path) -> bool:
 
 
 @register("reference", detect=detect)
+@checked(None)
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read contact.csv of a reference output folder (or the csv itself) into the tidy table."""
     src = contact_csv(Path(path))
@@ -108,7 +110,7 @@ def read_source(path, model=None) -> SourceResult:
     if folder is not None and (folder / "summary.json").is_file():
         try:
             summary = json.loads((folder / "summary.json").read_text())
-        except (OSError, ValueError):
+        except (OSError, ValueError, RecursionError):
             summary = None
     return SourceResult(table, str(path), summary=summary if isinstance(summary, dict) else None,
                         **read_globals(path, table["method"].unique()))
@@ -160,10 +162,14 @@ def _last_step(names, pattern) -> str | None:
 
 
 def _read_vtu(path: Path):
+    import contextlib
+    import io
+
     import meshio
     try:
-        return meshio.read(path)
-    except Exception:       # an unreadable vtu only costs the global table its row
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            return meshio.read(path)    # on a corrupt file meshio prints "Error: ..." and calls sys.exit(1)
+    except (Exception, SystemExit):     # an unreadable vtu only costs the global table its row
         return None
 
 
@@ -216,7 +222,7 @@ def global_metrics(origin, method: str | None = None, vtu_fields=_UNREAD) -> dic
     if summary.is_file():
         try:
             leaves = list(_leaves(json.loads(summary.read_text())))
-        except (OSError, ValueError):
+        except (OSError, ValueError, RecursionError):
             leaves = []
         vm, u = _pick(leaves, _MISES, method), _pick(leaves, _DISP, method)
         if vm is not None:
