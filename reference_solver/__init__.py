@@ -46,10 +46,12 @@ from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_fac
 from .loads import distributing_forces
 from .path import Solution, solve_path
 from .problem import Problem
+from .threads import blas_info, blas_threads, default_threads
 
 __all__ = [
     "Problem", "CondensedSystem", "Solution", "ReferenceSolverError", "condense", "solve_path",
     "check_mechanism", "assemble_stiffness", "hex8_stiffness", "distributing_forces",
     "element_stress", "element_von_mises", "penalty_solve", "lcp_active_set", "lcp_pgs",
     "cholmod_factorize", "splu_factorize", "default_factorize", "HAVE_CHOLMOD",
+    "blas_info", "blas_threads", "default_threads",
 ]

@@ -23,6 +23,7 @@ from .linalg import (HAVE_CHOLMOD, Factorize, Schur, cholesky_dense, default_fac
                      schur_trailing)
 from .loads import distributing_forces, rigid_modes
 from .problem import Problem
+from .stages import mark
 from .threads import blas_threads
 from .trailing import rotate_blocks, schur_blocks
 
@@ -166,10 +167,12 @@ def _condense(p: Problem, cases, factorize, schur) -> CondensedSystem:
     # the reduced stiffness is only referenced by the Schur call, which releases it early
     if schur == "trailing" and dm.ref_dofs is None and dm.n_reduced == 3 * p.n_nodes:
         Kq = _reduced_blocks(p, dm, times)
+        mark("assembly")
         t2 = time.perf_counter()
         sc = schur_blocks(Kq, r, F)
     else:
         Kq = _reduced_stiffness(p, dm, times)
+        mark("assembly")
         t2 = time.perf_counter()
         sc = (schur_trailing(Kq.pop(), r, F) if schur == "trailing"
               else schur_rhs(Kq.pop(), r, F, factorize or default_factorize()))
@@ -193,6 +196,7 @@ def _condense(p: Problem, cases, factorize, schur) -> CondensedSystem:
     Sc = 0.5 * (Sc + Sc.T)
     fc = sc.fhat[:nc] - S[:nc, nc:] @ us0
     t4 = time.perf_counter()
+    mark("dense")
     info = {"dofs": dm.n_reduced, "retained": int(r.size), "schur": sc.method,
             "assembly_s": t1 - t0, "transform_s": t2 - t1, "condense_s": t3 - t2,
             "dense_s": t4 - t3, **{f"schur_{k}": v for k, v in sc.timings.items()}}

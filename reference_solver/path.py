@@ -18,6 +18,7 @@ from .condense import CondensedSystem
 from .contact import Unbounded, lcp_active_set, lcp_pgs, penalty_solve
 from .errors import ReferenceSolverError
 from .onset import track_lagrange, track_penalty
+from .threads import with_blas_threads
 
 METHODS = ("penalty", "lagrange")
 ALGORITHMS = {"penalty": ("newton",), "lagrange": ("active-set", "gauss-seidel")}
@@ -103,6 +104,7 @@ def _solve_state(sysm: CondensedSystem, method: str, algorithm: str, coeffs: np.
     return u, force, closed, its
 
 
+@with_blas_threads
 def solve_path(sysm: CondensedSystem, method: str = "penalty", k_factor: float = 1.0, *,
                base: Mapping[str, float] | None = None, ramp: Mapping[str, float] | None = None,
                lambda_max: float = 1.0, increments: int = 10, algorithm: str | None = None,

@@ -9,6 +9,7 @@ unless ``REFERENCE_SOLVER_THREADS`` says otherwise; ``threads`` arguments overri
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 
 from .errors import ReferenceSolverError
@@ -47,3 +48,12 @@ def blas_info() -> list[dict]:
         return []
     return [{k: d.get(k) for k in ("internal_api", "version", "architecture", "num_threads", "filepath")}
             for d in threadpool_info() if d.get("user_api") == "blas"]
+
+
+def with_blas_threads(fn):
+    """Decorator: run ``fn`` under :func:`blas_threads`, taking an optional ``threads=`` keyword."""
+    @functools.wraps(fn)
+    def wrapper(*args, threads: int | None = None, **kw):
+        with blas_threads(threads):
+            return fn(*args, **kw)
+    return wrapper

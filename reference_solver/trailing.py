@@ -20,6 +20,7 @@ import scipy.sparse as sp
 from .assembly import BlockStiffness
 from .errors import ReferenceSolverError
 from .linalg import _SINGULAR, Schur, _cholmod, schur_from_trailing_factor
+from .stages import mark
 
 ORDERING = "default"   # CHOLMOD ordering method for the node graph (AMD, METIS when it is better)
 
@@ -90,6 +91,7 @@ def schur_blocks(holder: list, r: np.ndarray, F: np.ndarray) -> Schur:
     del rows, cols, vals, tail
     Kp.sort_indices()
     t1 = time.perf_counter()
+    mark("split")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", _cholmod.CholmodTypeConversionWarning)
         try:
@@ -98,6 +100,8 @@ def schur_blocks(holder: list, r: np.ndarray, F: np.ndarray) -> Schur:
             raise ReferenceSolverError(_SINGULAR) from None
     del Kp
     t2 = time.perf_counter()
+    mark("factor")
     sc = schur_from_trailing_factor(f, perm, r, F, d0, {"split_s": t1 - t0, "factor_s": t2 - t1}, t2)
     sc.method = "cholmod-trailing-blocks"
+    mark("schur")
     return sc
