@@ -41,6 +41,7 @@ from .condense import CondensedSystem, check_mechanism, condense
 from .contact import lcp_active_set, lcp_pgs, penalty_solve
 from .elements import hex8_stiffness
 from .errors import ReferenceSolverError
+from .estimate import estimate_peak_bytes, factor_entries
 from .fields import element_stress, element_von_mises
 from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_factorize
 from .loads import distributing_forces
@@ -53,5 +54,5 @@ __all__ = [
     "check_mechanism", "assemble_stiffness", "hex8_stiffness", "distributing_forces",
     "element_stress", "element_von_mises", "penalty_solve", "lcp_active_set", "lcp_pgs",
     "cholmod_factorize", "splu_factorize", "default_factorize", "HAVE_CHOLMOD",
-    "blas_info", "blas_threads", "default_threads",
+    "blas_info", "blas_threads", "default_threads", "estimate_peak_bytes", "factor_entries",
 ]
