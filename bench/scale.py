@@ -93,7 +93,8 @@ def case_path(nt, nz, nr, threads) -> dict:
     out["stages"] = st.rows
     out["peak_mb"] = max(r[2] for r in st.rows) if st.resettable else _hwm_mb()
     out["estimate_mb"] = est / 2**20
-    out["blas"] = rs.blas_info()
+    with rs.blas_threads(threads):
+        out["blas"] = rs.blas_info()
     return out
 
 
@@ -179,10 +180,9 @@ def main(argv=None) -> int:
         if "error" in path:
             print(f"   path failed: {path['error']}")
         elif path:
-            if "blas" in path and path["blas"]:
-                b = path["blas"][0]
+            for b in path.get("blas", []):
                 print(f"   BLAS: {b['internal_api']} {b['version']} kernel {b['architecture']}, "
-                      f"{b['num_threads']} thread(s) in the pool")
+                      f"{b['num_threads']} thread(s) while solving: {os.path.basename(b['filepath'] or '?')}")
             print(f"   {path['dofs']} dofs, {path['hexes']} hexes, {path['retained']} retained, {path['schur']}")
             print(f"   {'stage':<10} {'time s':>8} {'peak RSS MB':>12}")
             for name, dt, mb in path["stages"]:

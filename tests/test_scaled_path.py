@@ -53,3 +53,38 @@ def test_supernodal_read_equals_the_factor_copy():
     np.testing.assert_allclose(got, L[340:, 340:], rtol=0, atol=1e-14 * np.abs(L).max())
     simplicial = cholmod.cholesky(A, ordering_method="natural", mode="simplicial")
     assert trailing_block(simplicial, 400, 60) is None        # not supernodal: refused (caller uses L())
+
+
+def test_peak_estimate_brackets_the_measured_peak_rss(tmp_path):
+    """estimate_peak_bytes against the peak RSS (VmHWM) of a fresh process running the whole path.
+
+    Stated factor: the measured peak lies within [0.5, 1.25] x the estimate (bench/scale.py measured
+    0.87-0.90 at 100k-400k dofs). The process is separate so that its peak is its own.
+    """
+    import json
+    import subprocess
+    import sys
+    code = """
+import json, reference_solver as rs
+from deckbridge.model import load
+from deckbridge.mesh import build_mesh
+from deckbridge.solve import build_problem
+m = load(None, ["mesh.n_theta=120", "mesh.n_z=50"])
+p = build_problem(m, build_mesh(m))
+est = rs.estimate_peak_bytes(p.n_nodes, len(p.hexes), p.n_contacts, p.n_springs,
+                             factor_entries=rs.factor_entries(p.hexes, p.n_nodes))
+s = rs.condense(p)
+for method in ("penalty", "lagrange"):
+    rs.solve_path(s, method)
+hwm = next(int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM:")) * 1024
+print(json.dumps({"est": est, "hwm": hwm}))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    assert 0.5 * r["est"] <= r["hwm"] <= 1.25 * r["est"], r
+
+
+def test_peak_estimate_grows_with_the_mesh():
+    small = rs.estimate_peak_bytes(10_000, 6_000, 300, 200)
+    big = rs.estimate_peak_bytes(1_000_000, 660_000, 3_000, 2_000)
+    assert big > 20 * small > 0
