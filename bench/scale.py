@@ -132,8 +132,11 @@ def case_ccx(nt, nz, nr) -> dict:
 
 def _sub(args: list[str], limit_as: str | None = None) -> dict:
     cmd = [sys.executable, os.path.abspath(__file__), *args]
-    if limit_as:
-        cmd = ["prlimit", f"--as={limit_as}", *cmd]
+    if limit_as:                                   # prlimit wants bytes ("21G" is not parsed as GiB)
+        units = {"k": 2**10, "m": 2**20, "g": 2**30}
+        tail = limit_as[-1].lower()
+        nbytes = int(float(limit_as[:-1]) * units[tail]) if tail in units else int(limit_as)
+        cmd = ["prlimit", f"--as={nbytes}", *cmd]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         return {"error": (res.stderr.strip().splitlines() or [f"exit {res.returncode}"])[-1]}
@@ -156,7 +159,7 @@ def main(argv=None) -> int:
     ap.add_argument("--threads", type=int, default=1, help="BLAS threads in both processes (default 1)")
     ap.add_argument("--only", choices=["path", "factor"], help="run one side only")
     ap.add_argument("--with-ccx", action="store_true", help="also run CalculiX on the same mesh (penalty deck)")
-    ap.add_argument("--limit-as", help="address-space limit of each process, e.g. 21G (prlimit --as)")
+    ap.add_argument("--limit-as", help="address-space limit of each process, e.g. 21G (GiB) or bytes (prlimit --as)")
     ap.add_argument("--json", help="write all measurements to this file")
     ap.add_argument("--case", nargs=4, metavar=("KIND", "NT", "NZ", "NR"), help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
