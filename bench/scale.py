@@ -12,7 +12,7 @@ before starting (reference_solver.estimate), the BLAS library, kernel and thread
 
     python bench/scale.py --sizes 20k,100k,400k
     python bench/scale.py --sizes 100k --with-ccx        # ccx on the same mesh (minutes)
-    python bench/scale.py --sizes 3m --only path         # under prlimit --as=... on a 24 GiB box
+    python bench/scale.py --sizes 3m --only path --limit-rss 20G   # killed above 20 GiB resident
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ import os
 import platform
 import subprocess
 import sys
+import tempfile
 import time
 
 # (n_theta, n_z, n_r): about 3 * n_theta * (n_z + 1) * (n_r + 1) dofs; elements stay near square
@@ -130,17 +131,46 @@ def case_ccx(nt, nz, nr) -> dict:
     return run(nt, nz, nr, 10)
 
 
-def _sub(args: list[str], limit_as: str | None = None) -> dict:
+def _bytes(text: str) -> int:
+    units = {"k": 2**10, "m": 2**20, "g": 2**30}
+    tail = text[-1].lower()
+    return int(float(text[:-1]) * units[tail]) if tail in units else int(text)
+
+
+def _rss_of(pid: int) -> int:
+    try:
+        with open(f"/proc/{pid}/status") as fh:
+            for line in fh:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 0
+
+
+def _sub(args: list[str], limit_as: str | None = None, limit_rss: str | None = None) -> dict:
+    """Run one case in a fresh process. ``limit_as``: prlimit --as (bytes; "21G" is not GiB to prlimit);
+    ``limit_rss``: this process polls the child's resident memory and kills it above the limit
+    (the address space of OpenBLAS/glibc reservations runs far ahead of the resident memory)."""
     cmd = [sys.executable, os.path.abspath(__file__), *args]
-    if limit_as:                                   # prlimit wants bytes ("21G" is not parsed as GiB)
-        units = {"k": 2**10, "m": 2**20, "g": 2**30}
-        tail = limit_as[-1].lower()
-        nbytes = int(float(limit_as[:-1]) * units[tail]) if tail in units else int(limit_as)
-        cmd = ["prlimit", f"--as={nbytes}", *cmd]
-    res = subprocess.run(cmd, capture_output=True, text=True)
-    if res.returncode != 0:
-        return {"error": (res.stderr.strip().splitlines() or [f"exit {res.returncode}"])[-1]}
-    return json.loads(res.stdout.strip().splitlines()[-1])
+    if limit_as:
+        cmd = ["prlimit", f"--as={_bytes(limit_as)}", *cmd]
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen(cmd, stdout=out, stderr=err, text=True)
+        cap, killed = (_bytes(limit_rss) if limit_rss else None), False
+        while proc.poll() is None:
+            if cap and _rss_of(proc.pid) > cap:
+                proc.kill()
+                killed = True
+            time.sleep(0.05)
+        out.seek(0)
+        err.seek(0)
+        stdout, stderr = out.read(), err.read()
+    if killed:
+        return {"error": f"killed: resident memory above {limit_rss}"}
+    if proc.returncode != 0:
+        return {"error": (stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1]}
+    return json.loads(stdout.strip().splitlines()[-1])
 
 
 def _cpu() -> str:
@@ -160,6 +190,7 @@ def main(argv=None) -> int:
     ap.add_argument("--only", choices=["path", "factor"], help="run one side only")
     ap.add_argument("--with-ccx", action="store_true", help="also run CalculiX on the same mesh (penalty deck)")
     ap.add_argument("--limit-as", help="address-space limit of each process, e.g. 21G (GiB) or bytes (prlimit --as)")
+    ap.add_argument("--limit-rss", help="kill a case whose resident memory exceeds this, e.g. 20G (polled)")
     ap.add_argument("--json", help="write all measurements to this file")
     ap.add_argument("--case", nargs=4, metavar=("KIND", "NT", "NZ", "NR"), help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
@@ -175,8 +206,8 @@ def main(argv=None) -> int:
     for size in [s.strip().lower() for s in a.sizes.split(",") if s.strip()]:
         nt, nz, nr = MESHES[size]
         geo = [str(nt), str(nz), str(nr), "--threads", str(a.threads)]
-        path = _sub(["--case", "path", *geo], a.limit_as) if a.only != "factor" else {}
-        fac = _sub(["--case", "factor", *geo], a.limit_as) if a.only != "path" else {}
+        path = _sub(["--case", "path", *geo], a.limit_as, a.limit_rss) if a.only != "factor" else {}
+        fac = _sub(["--case", "factor", *geo], a.limit_as, a.limit_rss) if a.only != "path" else {}
         ccx = _sub(["--case", "ccx", str(nt), str(nz), str(nr)]) if a.with_ccx else {}
         results[size] = {"path": path, "factor": fac, "ccx": ccx, "mesh": (nt, nz, nr)}
         print(f"\n== {size}: mesh {nt}x{nz}x{nr}")
