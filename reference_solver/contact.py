@@ -16,7 +16,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .errors import ReferenceSolverError
-from .linalg import cholesky_dense, shifted_solver
+from .linalg import cholesky_dense
 
 
 class Unbounded(ReferenceSolverError):
@@ -42,9 +42,10 @@ def penalty_solve(S: np.ndarray, f: np.ndarray, k: np.ndarray, k_open: np.ndarra
         g = c0 + u
         closed = g <= 0
         D = np.where(closed, k, k_open)
-        u_new = shifted_solver(S).solve(D, f - D * c0)          # one factor re-used across states
-        if u_new is None:
+        cf = cholesky_dense(S + np.diag(D))
+        if cf is None:
             raise ReferenceSolverError("penalty: the contact stiffness S + D is not positive definite")
+        u_new = sla.cho_solve(cf, f - D * c0, check_finite=False)
         g_new = c0 + u_new
         if np.all(np.where(closed, g_new <= 0, g_new > 0)):
             return u_new, it

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import ctypes
 import os
-import threading
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -280,81 +279,3 @@ def cholesky_dense(A: np.ndarray):
     except (np.linalg.LinAlgError, sla.LinAlgError):
         return None
 
-
-class ShiftedSolver:
-    """Solves (S + diag(d)) x = b for one dense symmetric S and diagonals d that change a few entries
-    at a time (penalty gap states), re-using one Cholesky factor of S + diag(d0).
-
-    Entries of d that differ from d0 enter by the Woodbury identity (rank m, O(n^2 m)), used as the
-    preconditioner of iterative refinement on the exact residual, so the answer is that of a fresh
-    factorisation to round-off; when more than ``max_rank`` entries differ, or refinement does not
-    reach ``tol``, S + diag(d) is factored afresh and becomes the new reference.
-    """
-
-    def __init__(self, S: np.ndarray, max_rank: int | None = None, tol: float = 1e-14, sweeps: int = 4):
-        self.S = S
-        self.max_rank = max_rank if max_rank is not None else max(8, S.shape[0] // 10)
-        self.tol, self.sweeps = tol, sweeps
-        self.cf = None
-        self.d0 = None
-        self.factorizations = 0
-
-    def _refactor(self, d: np.ndarray) -> bool:
-        cf = cholesky_dense(self.S + np.diag(d))
-        if cf is None:
-            return False
-        self.cf, self.d0 = cf, d.copy()
-        self.factorizations += 1
-        return True
-
-    def solve(self, d: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-        """x with (S + diag(d)) x = b, or None when S + diag(d) is not positive definite."""
-        d = np.asarray(d, float)
-        ch = np.flatnonzero(d != self.d0) if self.cf is not None else None
-        if ch is not None and 0 < ch.size <= self.max_rank:
-            x = self._woodbury_refined(d, b, ch)
-            if x is not None:
-                return x
-        if ch is None or ch.size > 0:
-            if not self._refactor(d):
-                return None
-        return sla.cho_solve(self.cf, b, check_finite=False)
-
-    def _woodbury_refined(self, d: np.ndarray, b: np.ndarray, ch: np.ndarray) -> np.ndarray | None:
-        n = d.size
-        delta = d[ch] - self.d0[ch]
-        U = np.zeros((n, ch.size))
-        U[ch, np.arange(ch.size)] = 1.0
-        Z = sla.cho_solve(self.cf, U, check_finite=False)            # A0^-1 U
-        C = np.diag(1.0 / delta) + Z[ch]                              # capacitance matrix
-        try:
-            lu = sla.lu_factor(C, check_finite=False)
-        except (ValueError, sla.LinAlgError):
-            return None
-
-        def apply(v):                                                 # (A0 + U diag(delta) U^T)^-1 v
-            y = sla.cho_solve(self.cf, v, check_finite=False)
-            return y - Z @ sla.lu_solve(lu, y[ch], check_finite=False)
-
-        scale = np.abs(b).max() + 1e-300
-        x = apply(b)
-        for _ in range(self.sweeps):
-            r = b - (self.S @ x + d * x)
-            if not np.all(np.isfinite(r)):
-                return None
-            if np.abs(r).max() <= self.tol * scale:
-                return x
-            x = x + apply(r)
-        r = b - (self.S @ x + d * x)
-        return x if np.abs(r).max() <= self.tol * scale else None
-
-
-_SHIFTED = threading.local()
-
-
-def shifted_solver(S: np.ndarray) -> ShiftedSolver:
-    """The :class:`ShiftedSolver` of this very array ``S`` (one per thread, replaced when S changes)."""
-    cached = getattr(_SHIFTED, "solver", None)
-    if cached is None or cached.S is not S:
-        cached = _SHIFTED.solver = ShiftedSolver(S)
-    return cached
