@@ -125,6 +125,16 @@ def case_factor(nt, nz, nr, threads) -> dict:
     return {"factor_s": tf, "factor_peak_mb": _hwm_mb(), "before_mb": base, "nnz_k": int(Kii.nnz)}
 
 
+def case_liftoff(nt, nz, nr, threads) -> dict:
+    """``deckbridge liftoff`` (both methods, one condensation, onset search) on the same mesh."""
+    from deckbridge.studies.liftoff import critical_load
+    os.environ["REFERENCE_SOLVER_THREADS"] = str(threads)
+    model = _model(nt, nz, nr)
+    t = time.perf_counter()
+    res = critical_load(model)
+    return {"liftoff_s": time.perf_counter() - t, "lambda_c": {m: res[m]["lambda_c"] for m in res["methods"]}}
+
+
 def case_ccx(nt, nz, nr) -> dict:
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from bench_solver import case_ccx as run
@@ -189,6 +199,7 @@ def main(argv=None) -> int:
     ap.add_argument("--threads", type=int, default=1, help="BLAS threads in both processes (default 1)")
     ap.add_argument("--only", choices=["path", "factor"], help="run one side only")
     ap.add_argument("--with-ccx", action="store_true", help="also run CalculiX on the same mesh (penalty deck)")
+    ap.add_argument("--with-liftoff", action="store_true", help="also time deckbridge's liftoff study on the same mesh")
     ap.add_argument("--limit-as", help="address-space limit of each process, e.g. 21G (GiB) or bytes (prlimit --as)")
     ap.add_argument("--limit-rss", help="kill a case whose resident memory exceeds this, e.g. 20G (polled)")
     ap.add_argument("--json", help="write all measurements to this file")
@@ -197,7 +208,7 @@ def main(argv=None) -> int:
     if a.case:
         kind, nt, nz, nr = a.case[0], *map(int, a.case[1:])
         out = {"path": lambda: case_path(nt, nz, nr, a.threads), "factor": lambda: case_factor(nt, nz, nr, a.threads),
-               "ccx": lambda: case_ccx(nt, nz, nr)}[kind]()
+               "liftoff": lambda: case_liftoff(nt, nz, nr, a.threads), "ccx": lambda: case_ccx(nt, nz, nr)}[kind]()
         print(json.dumps(out))
         return 0
 
@@ -209,7 +220,8 @@ def main(argv=None) -> int:
         path = _sub(["--case", "path", *geo], a.limit_as, a.limit_rss) if a.only != "factor" else {}
         fac = _sub(["--case", "factor", *geo], a.limit_as, a.limit_rss) if a.only != "path" else {}
         ccx = _sub(["--case", "ccx", str(nt), str(nz), str(nr)]) if a.with_ccx else {}
-        results[size] = {"path": path, "factor": fac, "ccx": ccx, "mesh": (nt, nz, nr)}
+        lift = _sub(["--case", "liftoff", *geo], a.limit_as, a.limit_rss) if a.with_liftoff else {}
+        results[size] = {"path": path, "factor": fac, "ccx": ccx, "liftoff": lift, "mesh": (nt, nz, nr)}
         print(f"\n== {size}: mesh {nt}x{nz}x{nr}")
         if "error" in path:
             print(f"   path failed: {path['error']}")
@@ -230,6 +242,12 @@ def main(argv=None) -> int:
             print(f"   one CHOLMOD factorisation of K_ii: {fac['factor_s']:.2f} s, peak RSS {fac['factor_peak_mb']:.0f} MB")
         if path.get("path_s") and fac.get("factor_s"):
             print(f"   RATIO whole path / one factorisation = {path['path_s'] / fac['factor_s']:.2f}")
+        if lift:
+            if "liftoff_s" in lift:
+                print(f"   liftoff study (both methods, no fields): {lift['liftoff_s']:.2f} s"
+                      + (f", {lift['liftoff_s'] / path['path_s']:.2f}x the whole path" if path.get("path_s") else ""))
+            else:
+                print(f"   liftoff: {lift}")
         if ccx:
             if "ccx_s" in ccx and ccx.get("returncode") == 0:
                 print(f"   ccx (penalty deck, same mesh): {ccx['ccx_s']:.1f} s"
