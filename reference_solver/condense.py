@@ -16,13 +16,16 @@ from typing import Mapping
 import numpy as np
 import scipy.linalg as sla
 
-from .assembly import assemble_stiffness
+from .assembly import assemble_blocks, assemble_stiffness
 from .errors import ReferenceSolverError
 from .frames import DofMap, build_dofmap
 from .linalg import (HAVE_CHOLMOD, Factorize, Schur, cholesky_dense, default_factorize, schur_rhs,
                      schur_trailing)
 from .loads import distributing_forces, rigid_modes
 from .problem import Problem
+from .stages import mark
+from .threads import blas_threads
+from .trailing import rotate_blocks, schur_blocks
 
 
 @dataclass
@@ -100,6 +103,19 @@ def _reduced_stiffness(p: Problem, dm: DofMap, times: dict) -> list:
     return [(dm.T.T @ K @ dm.T).tocsr()]
 
 
+def _reduced_blocks(p: Problem, dm: DofMap, times: dict) -> list:
+    """[T^T K T] as node blocks (distributing coupling: T is one 3x3 frame per node)."""
+    t = time.perf_counter()
+    K = assemble_blocks(p.nodes, p.hexes, p.E, p.nu, p.element)
+    times["assembly_s"] = time.perf_counter() - t
+    framed = np.unique(np.concatenate([p.contact_nodes, p.spring_nodes]))
+    rr = (3 * framed[:, None, None] + np.arange(3)[None, :, None]).repeat(3, axis=2)
+    cc = np.swapaxes(rr, 1, 2)
+    R = np.asarray(dm.T[rr.ravel(), cc.ravel()]).reshape(-1, 3, 3)   # u_global = R u_local
+    rotate_blocks(K, framed, R)
+    return [K]
+
+
 def check_mechanism(p: Problem) -> None:
     """Raise when a rigid-body motion moves no contact normal and strains no spring."""
     if p.n_contacts == 0:
@@ -123,13 +139,20 @@ def check_mechanism(p: Problem) -> None:
 
 
 def condense(p: Problem, cases: tuple[str, ...] | None = None, factorize: Factorize | None = None,
-             schur: str = "auto") -> CondensedSystem:
+             schur: str = "auto", threads: int | None = None) -> CondensedSystem:
     """Assemble K, apply frames and couplings, condense onto contact and spring dofs.
 
     ``factorize``: sparse factorisation (default CHOLMOD, else SuperLU); ``schur``: 'trailing'
     (CHOLMOD, r ordered last), 'rhs' (blocked solves with ``factorize``) or 'auto' (trailing when
-    CHOLMOD is available and ``factorize`` is not given).
+    CHOLMOD is available and ``factorize`` is not given). With a distributing coupling 'trailing'
+    works on the node blocks (trailing.py); a kinematic coupling goes through the sparse T^T K T.
+    ``threads``: BLAS threads for the condensation (None: threads.default_threads()).
     """
+    with blas_threads(threads):
+        return _condense(p, cases, factorize, schur)
+
+
+def _condense(p: Problem, cases, factorize, schur) -> CondensedSystem:
     check_mechanism(p)
     names = tuple(p.loads) if cases is None else tuple(cases)
     if schur == "auto":
@@ -142,10 +165,17 @@ def condense(p: Problem, cases: tuple[str, ...] | None = None, factorize: Factor
     r = np.concatenate([dm.contact_dofs, dm.spring_dofs])
     times: dict = {}
     # the reduced stiffness is only referenced by the Schur call, which releases it early
-    Kq = _reduced_stiffness(p, dm, times)
-    t2 = time.perf_counter()
-    sc = (schur_trailing(Kq.pop(), r, F) if schur == "trailing"
-          else schur_rhs(Kq.pop(), r, F, factorize or default_factorize()))
+    if schur == "trailing" and dm.ref_dofs is None and dm.n_reduced == 3 * p.n_nodes:
+        Kq = _reduced_blocks(p, dm, times)
+        mark("assembly")
+        t2 = time.perf_counter()
+        sc = schur_blocks(Kq, r, F)
+    else:
+        Kq = _reduced_stiffness(p, dm, times)
+        mark("assembly")
+        t2 = time.perf_counter()
+        sc = (schur_trailing(Kq.pop(), r, F) if schur == "trailing"
+              else schur_rhs(Kq.pop(), r, F, factorize or default_factorize()))
     t3 = time.perf_counter()
     t1 = t0 + times["assembly_s"]
     nc, ns = p.n_contacts, p.n_springs
@@ -166,6 +196,7 @@ def condense(p: Problem, cases: tuple[str, ...] | None = None, factorize: Factor
     Sc = 0.5 * (Sc + Sc.T)
     fc = sc.fhat[:nc] - S[:nc, nc:] @ us0
     t4 = time.perf_counter()
+    mark("dense")
     info = {"dofs": dm.n_reduced, "retained": int(r.size), "schur": sc.method,
             "assembly_s": t1 - t0, "transform_s": t2 - t1, "condense_s": t3 - t2,
             "dense_s": t4 - t3, **{f"schur_{k}": v for k, v in sc.timings.items()}}

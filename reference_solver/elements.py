@@ -89,14 +89,16 @@ def _isotropic_block(X: np.ndarray, Y: np.ndarray, lam: float, mu: float) -> np.
     functions at the Gauss points, already scaled by sqrt(w det J). Returns (ne, 3p, 3q) with dofs
     (field, component): K[a i, b j] = sum_g lam X_ia Y_jb + mu X_ja Y_ib + mu delta_ij X_ka Y_kb.
     """
-    M = np.einsum("eiag,ejbg->eaibj", X, Y, optimize=False)        # (ne, p, 3, q, 3)
+    ne, _, p, ng = X.shape
+    q = Y.shape[2]
+    M = np.matmul(X.reshape(ne, 3 * p, ng), Y.reshape(ne, 3 * q, ng).transpose(0, 2, 1))   # [e, ia, jb]
+    M = M.reshape(ne, 3, p, 3, q).transpose(0, 2, 1, 4, 3)                  # (ne, p, 3, q, 3)
     K = np.multiply(M, lam)
     K += np.multiply(np.swapaxes(M, 2, 4), mu)
     tr = M[:, :, 0, :, 0] + M[:, :, 1, :, 1] + M[:, :, 2, :, 2]
     tr *= mu
     for i in range(3):
         K[:, :, i, :, i] += tr
-    ne, p, _, q, _ = M.shape
     return K.reshape(ne, 3 * p, 3 * q)
 
 

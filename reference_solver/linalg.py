@@ -14,6 +14,8 @@ The Schur complement S = K_rr - K_ri K_ii^-1 K_ir onto the retained dofs r is bu
 
 from __future__ import annotations
 
+import ctypes
+import os
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -163,13 +165,83 @@ def schur_trailing(K: sp.spmatrix, r: np.ndarray, F: np.ndarray) -> Schur:
             raise ReferenceSolverError(_SINGULAR) from None
         del Kp
     t2 = time.perf_counter()
+    return schur_from_trailing_factor(f, perm, r, F, d0, {"split_s": t1 - t0, "factor_s": t2 - t1}, t2)
+
+
+def trailing_block(f, n: int, nr: int) -> np.ndarray | None:
+    """Dense trailing block L[n-nr:, n-nr:] of a supernodal CHOLMOD factor, read in place.
+
+    scikit-sparse 0.4 does not expose the supernodes and ``Factor.L()`` copies (and converts) the
+    whole factor, which at millions of dofs costs as much memory as the factor itself. The block is
+    read from the ``cholmod_factor`` struct (SuiteSparse 5 layout) with ctypes; every field read is
+    checked (dimension, supernodal LL', real double, index type, last supernode ends at n), and
+    None is returned when anything does not match (the caller then uses ``f.L()``).
+    """
+    if os.environ.get("REFERENCE_SOLVER_NO_SUPERNODE_READ"):
+        return None
+    try:
+        import sksparse
+        if not str(getattr(sksparse, "__version__", "")).startswith("0.4."):
+            return None
+        if type(f).__basicsize__ < 32:
+            return None
+        base = id(f)
+        if ctypes.c_void_p.from_address(base + 16).value != id(f._common):   # layout: _common, _factor
+            return None
+        L = ctypes.c_void_p.from_address(base + 24).value
+        if not L:
+            return None
+        size_t = lambda off: ctypes.c_size_t.from_address(L + off).value      # noqa: E731
+        cint = lambda off: ctypes.c_int.from_address(L + off).value           # noqa: E731
+        ptr = lambda off: ctypes.c_void_p.from_address(L + off).value         # noqa: E731
+        if size_t(0) != n or cint(180) != 1 or cint(184) != 1 or cint(196) != 1 or cint(200) != 0:
+            return None                                       # n, is_ll, is_super, xtype real, double
+        itype = cint(192)
+        if itype not in (0, 2):
+            return None
+        it = ctypes.c_int32 if itype == 0 else ctypes.c_int64
+        nsuper = size_t(104)
+        as_np = lambda addr, ct, count: np.ctypeslib.as_array((ct * count).from_address(addr))  # noqa: E731
+        sup = as_np(ptr(144), it, nsuper + 1)
+        pi = as_np(ptr(152), it, nsuper + 1)
+        px = as_np(ptr(160), it, nsuper + 1)
+        if int(sup[-1]) != n or int(sup[0]) != 0:
+            return None
+        s_addr, x_addr = ptr(168), ptr(64)
+        lo = n - nr
+        out = np.zeros((nr, nr))
+        k = int(np.searchsorted(sup, lo, side="right")) - 1            # supernode holding column lo
+        for k in range(k, nsuper):
+            c0, c1 = int(sup[k]), int(sup[k + 1])
+            nrow = int(pi[k + 1] - pi[k])
+            rows = as_np(s_addr + int(pi[k]) * ctypes.sizeof(it), it, nrow).astype(np.int64)
+            blk = as_np(x_addr + int(px[k]) * 8, ctypes.c_double, nrow * (c1 - c0)).reshape(c1 - c0, nrow)
+            for j in range(max(c0, lo), c1):                         # column j of L: rows >= j
+                col = blk[j - c0]
+                keep = rows >= j
+                out[rows[keep] - lo, j - lo] = col[keep]
+        return out
+    except Exception:                                                  # pragma: no cover - defensive
+        return None
+
+
+def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray, d0: np.ndarray,
+                               timings: dict, t2: float) -> Schur:
+    """S, condensed loads and recovery from a factor of P (K + D0) P^T with r = perm[n-nr:] last."""
+    n, nr = perm.size, r.size
     P = f.P()
     tail = P[n - nr:]
     if not np.array_equal(np.sort(tail), np.arange(n - nr, n)):   # CHOLMOD moved r: not expected
         raise ReferenceSolverError("schur='trailing': CHOLMOD reordered the retained dofs (use schur='rhs')")
-    L = f.L()                                                        # converts the factor to simplicial
-    Lrr = L[n - nr:, n - nr:].toarray()
-    del L
+    Lrr = trailing_block(f, n, nr)
+    how = "supernodes"
+    if Lrr is None:
+        L = f.L()                                                    # converts the factor to simplicial
+        p0 = int(L.indptr[n - nr])                                   # columns n-nr.. hold rows n-nr.. only
+        Lrr = sp.csc_matrix((L.data[p0:], L.indices[p0:] - (n - nr), L.indptr[n - nr:] - p0),
+                            shape=(nr, nr)).toarray()
+        del L
+        how = "L()"
     C = Lrr @ Lrr.T                                                  # S + D0 in the order tail
     back = np.empty(nr, np.int64)
     back[tail - (n - nr)] = np.arange(nr)
@@ -179,9 +251,10 @@ def schur_trailing(K: sp.spmatrix, r: np.ndarray, F: np.ndarray) -> Schur:
     def solve_aug(b_perm: np.ndarray) -> np.ndarray:
         return np.asarray(f(b_perm))
 
-    ni = i.size
+    ni = n - nr
+    Fi = F[perm[:ni]]
     B = np.zeros((n, F.shape[1]))
-    B[:ni] = F[i[order]]
+    B[:ni] = Fi
     Y = solve_aug(B)[ni:].reshape(nr, -1)                            # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
     fhat = F[r] + SD @ Y
     t3 = time.perf_counter()
@@ -189,14 +262,14 @@ def schur_trailing(K: sp.spmatrix, r: np.ndarray, F: np.ndarray) -> Schur:
     def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
         shape = (n,) + np.shape(u_r)[1:]
         b = np.empty(shape)
-        b[:ni] = F[i[order]] @ coeffs
+        b[:ni] = Fi @ coeffs
         b[ni:] = SD @ (u_r - Y @ coeffs)
         u = np.empty(shape)
         u[perm] = solve_aug(b).reshape(shape)
         return u
 
     return Schur(0.5 * (S + S.T), fhat, recover, "cholmod-trailing",
-                 {"split_s": t1 - t0, "factor_s": t2 - t1, "schur_s": t3 - t2})
+                 {**timings, "schur_s": t3 - t2, "trailing_read": how})
 
 
 def cholesky_dense(A: np.ndarray):
@@ -205,3 +278,4 @@ def cholesky_dense(A: np.ndarray):
         return sla.cho_factor(A, lower=True, check_finite=False)
     except (np.linalg.LinAlgError, sla.LinAlgError):
         return None
+

@@ -20,6 +20,7 @@ from .friction import FrictionSystem
 from .friction_path import solve_friction_path
 from .onset import track_lagrange, track_penalty
 from .solution import Solution  # noqa: F401  (re-exported: reference_solver.path.Solution)
+from .threads import with_blas_threads
 
 METHODS = ("penalty", "lagrange")
 ALGORITHMS = {"penalty": ("newton",), "lagrange": ("active-set", "gauss-seidel")}
@@ -55,6 +56,7 @@ def _solve_state(sysm: CondensedSystem, method: str, algorithm: str, coeffs: np.
     return u, force, closed, its
 
 
+@with_blas_threads
 def solve_path(sysm: CondensedSystem, method: str = "penalty", k_factor: float = 1.0, *,
                base: Mapping[str, float] | None = None, ramp: Mapping[str, float] | None = None,
                lambda_max: float = 1.0, increments: int = 10, algorithm: str | None = None,

@@ -1,0 +1,107 @@
+"""Trailing-block Schur complement built straight from the 3x3 node blocks (no sparse slicing).
+
+For a distributing coupling the map u = T q is block diagonal (one 3x3 frame per node), so
+T^T K T only changes the blocks of the framed (contact and spring) nodes, done in place on the
+blocks. The fill-reducing order is computed on the node graph (CHOLMOD analyze on the n x n
+pattern, 9x smaller than K) and expanded to the dofs, with the retained dofs r appended last.
+The lower triangle of P (K + D0) P^T (D0 = diag(K) on r) is then written in one pass into CSC,
+the blocks are released, and CHOLMOD factors it with the natural order; S + D0 = L_rr L_rr^T is
+read from the trailing supernodes (linalg.schur_from_trailing_factor). One copy of K lives at a time.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+
+from .assembly import BlockStiffness
+from .errors import ReferenceSolverError
+from .linalg import _SINGULAR, Schur, _cholmod, schur_from_trailing_factor
+from .stages import mark
+
+ORDERING = "default"   # CHOLMOD ordering method for the node graph (AMD, METIS when it is better)
+
+
+def rotate_blocks(K: BlockStiffness, nodes: np.ndarray, R: np.ndarray) -> None:
+    """In place: block (a, b) <- R_a^T K_ab R_b for the ``nodes`` with frames ``R`` (m, 3, 3)."""
+    pos = np.full(K.n_nodes, -1, np.int64)
+    pos[nodes] = np.arange(nodes.size)
+    for side, idx_of in (("row", K.rows), ("col", K.cols)):
+        sel = np.flatnonzero(pos[idx_of] >= 0)
+        B = K.comp[:, sel].T.reshape(-1, 3, 3)
+        Rk = R[pos[idx_of[sel]]]
+        B = np.einsum("kji,kjl->kil", Rk, B) if side == "row" else B @ Rk
+        K.comp[:, sel] = B.reshape(-1, 9).T
+
+
+def node_order(K: BlockStiffness) -> np.ndarray:
+    """Fill-reducing order of the nodes (new -> old) from CHOLMOD's analysis of the node graph."""
+    n = K.n_nodes
+    indptr = np.searchsorted(K.rows, np.arange(n + 1)).astype(K.cols.dtype)
+    G = sp.csc_matrix((np.ones(K.cols.size), K.cols, indptr), shape=(n, n))   # symmetric pattern
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", _cholmod.CholmodTypeConversionWarning)
+        try:
+            return _cholmod.analyze(G, ordering_method=ORDERING).P()
+        except _cholmod.CholmodError:
+            raise ReferenceSolverError(_SINGULAR) from None
+
+
+def schur_blocks(holder: list, r: np.ndarray, F: np.ndarray) -> Schur:
+    """Schur complement onto the dofs ``r`` of the block stiffness ``holder.pop()`` (released early).
+
+    ``F`` (3n, ncase): load vectors in the same (rotated) dof numbering as the blocks.
+    """
+    if _cholmod is None:
+        raise ReferenceSolverError("schur='trailing' needs CHOLMOD (scikit-sparse)")
+    t0 = time.perf_counter()
+    K = holder.pop()
+    n3, nr = 3 * K.n_nodes, r.size
+    diag = K.diagonal()
+    d0 = diag[r]
+    if np.any(d0 <= 0) or np.any(diag <= 0):
+        raise ReferenceSolverError(_SINGULAR)
+    isr = np.zeros(n3, bool)
+    isr[r] = True
+    dofs = (3 * node_order(K)[:, None] + np.arange(3)).ravel()
+    perm = np.concatenate([dofs[~isr[dofs]], r])                     # new -> old
+    idx_t = np.int32 if n3 < 2**31 - 1 else np.int64
+    iperm = np.empty(n3, idx_t)
+    iperm[perm] = np.arange(n3, dtype=idx_t)
+    parts_r, parts_c, parts_v = [], [], []
+    for c in range(9):                                               # lower triangle of P K P^T
+        i, j = divmod(c, 3)
+        gi = iperm[3 * K.rows.astype(idx_t) + i]
+        gj = iperm[3 * K.cols.astype(idx_t) + j]
+        low = gi >= gj
+        parts_r.append(gi[low])
+        parts_c.append(gj[low])
+        parts_v.append(K.comp[c, low])
+        del gi, gj, low
+    del K
+    rows, cols, vals = (np.concatenate(x) for x in (parts_r, parts_c, parts_v))
+    del parts_r, parts_c, parts_v
+    tail = np.arange(n3 - nr, n3, dtype=idx_t)
+    on_tail = np.flatnonzero((rows == cols) & (rows >= n3 - nr))
+    vals[on_tail] += d0[rows[on_tail] - (n3 - nr)]                   # K + D0 on r (ordered last)
+    Kp = sp.csc_matrix((vals, (rows, cols)), shape=(n3, n3))
+    del rows, cols, vals, tail
+    Kp.sort_indices()
+    t1 = time.perf_counter()
+    mark("split")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", _cholmod.CholmodTypeConversionWarning)
+        try:
+            f = _cholmod.cholesky(Kp, ordering_method="natural", mode="supernodal")
+        except _cholmod.CholmodNotPositiveDefiniteError:
+            raise ReferenceSolverError(_SINGULAR) from None
+    del Kp
+    t2 = time.perf_counter()
+    mark("factor")
+    sc = schur_from_trailing_factor(f, perm, r, F, d0, {"split_s": t1 - t0, "factor_s": t2 - t1}, t2)
+    sc.method = "cholmod-trailing-blocks"
+    mark("schur")
+    return sc
