@@ -19,7 +19,7 @@ from deckbridge.compare import LoadFactorError, compare_tables
 from deckbridge.compare.metrics import zone_iou
 from deckbridge.errors import DeckbridgeError
 from deckbridge.model import load
-from deckbridge.results import COLUMNS, conform
+from deckbridge.results import COLUMNS, REQUIRED, conform
 
 MPA = 1e6
 
@@ -44,7 +44,7 @@ def make_table(source, method, n_theta, sigma, lams=(1.0,), n_wall=1, wall_split
             for j in range(n_theta):
                 rows.append((source, method, step, inc, lam, w * n_theta + j + 1, "table", th[j], 0.0,
                              1.5 + 0.01 * w, v[j], 1e-5 if up[j] else 0.0, "open" if up[j] else "closed"))
-    return conform(pd.DataFrame(rows, columns=COLUMNS))
+    return conform(pd.DataFrame(rows, columns=REQUIRED))
 
 
 def beam(model):

@@ -18,7 +18,7 @@ from PIL import Image
 from deckbridge.compare import compare_tables
 from deckbridge.readers.reference import global_metrics, read_source
 from deckbridge.report import write_report
-from deckbridge.results import COLUMNS, conform
+from deckbridge.results import COLUMNS, REQUIRED, conform
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -33,7 +33,7 @@ def table(method, scale, n_theta=24, lams=(0.5, 1.0)):
         s = scale * 1e6 * (-10 + 16 * lam * np.cos(np.radians(th)))
         rows += [("reference", method, step, inc, lam, j + 1, "table", th[j], 0.0, 1.5, s[j], 0.0,
                   "open" if s[j] > 0 else "closed") for j in range(n_theta)]
-    return conform(pd.DataFrame(rows, columns=COLUMNS))
+    return conform(pd.DataFrame(rows, columns=REQUIRED))
 
 
 def _write_vtu(path, model):

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
-from ..results import COLUMNS, ResultsError, SourceResult, conform
+from ..results import REQUIRED as COLUMNS, ResultsError, SourceResult, conform
 from ._registry import register
 from ._nodemap import locate
 
