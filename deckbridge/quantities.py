@@ -8,8 +8,8 @@ a penalty model is kept as sigma_N > 0, never clipped); force_n > 0 compressive;
 Equilibrium check (what it compares): the corner-extrapolated base-wall sigma_zz (Gauss points of
 the bottom element row extrapolated to the base corners, averaged over the elements sharing a node,
 trapezoid mean through the wall) against the through-wall contact sigma_N = -Sum force / Sum area.
-Two numbers: ``szz_resultant_residual`` (the integral of mean sigma_zz over the base circle, arc
-weights x wall thickness, against the vertical contact resultant, relative) is the equilibrium check
+Two numbers: ``szz_resultant_residual`` (Sum over azimuths of mean sigma_zz x the azimuth's contact
+area, against the contact resultant Sum sigma_N x area, relative) is the equilibrium check
 and is warned above 1 %; ``szz_local_residual`` (max over theta of |mean sigma_zz - sigma_N| / max
 |sigma_N|) also carries the extrapolation error (5-8 % past liftoff on the default mesh, the lower
 Gauss layer alone ~1.3 %) and is reported, not warned.
@@ -49,8 +49,8 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("szz_outer_pa", "Pa", "none", "wall sigma_zz at the base, outer face (Gauss -> corner, node average)"),
     Quantity("szz_mean_pa", "Pa", "trapezoid over the node radii / thickness", "membrane: through-wall mean sigma_zz at the base"),
     Quantity("szz_bending_pa", "Pa", "none", "bending: (outer - inner) / 2 of sigma_zz at the base"),
-    Quantity("szz_resultant_residual", "1", "arc x thickness",
-             "|integral of mean sigma_zz over the base - contact resultant| / |contact resultant| (equilibrium check)"),
+    Quantity("szz_resultant_residual", "1", "contact area per azimuth",
+             "|Sum mean sigma_zz x area - Sum sigma_N x area| / |Sum sigma_N x area| over the base (equilibrium check)"),
     Quantity("szz_local_residual", "1", "none", "max over theta |mean sigma_zz - sigma_N wall| / max |sigma_N wall|"),
     Quantity("open_tension_ratio", "1", "none",
              "largest sigma_N > 0 of an open node / |peak compression| (penalty open-gap stiffness)"),
@@ -118,13 +118,15 @@ def contact_resultant(rows: pd.DataFrame) -> float:
     return float(np.sum(r["sigma_n_pa"].to_numpy(float) * r["area_m2"].to_numpy(float)))
 
 
-def equilibrium(wall_szz: pd.DataFrame, rows: pd.DataFrame, r_mid: float, thickness: float) -> dict:
+def equilibrium(wall_szz: pd.DataFrame, rows: pd.DataFrame) -> dict:
     """The equilibrium check of one state (see the module doc): {'szz_resultant_residual',
     'szz_local_residual', 'warn'}. ``wall_szz``: columns theta_deg, szz_mean_pa of that state."""
     sw = sigma_n_wall(rows)
     szz = pd.Series(wall_szz["szz_mean_pa"].to_numpy(float), index=snap_deg(wall_szz["theta_deg"].to_numpy(float)))
     szz = szz.groupby(level=0).mean().reindex(sw.index)
-    w = np.radians(arc_weights(sw.index.to_numpy(float))) * r_mid * thickness
+    r = table_rows(rows)
+    w = pd.Series(r["area_m2"].to_numpy(float), index=snap_deg(r["theta_deg"].to_numpy(float))).groupby(level=0).sum()
+    w = w.reindex(sw.index).to_numpy(float)
     resultant = contact_resultant(rows)
     res_glob = abs(float(np.sum(szz.to_numpy() * w)) - resultant) / max(abs(resultant), 1e-300)
     scale = float(np.max(np.abs(sw.to_numpy()))) or 1.0

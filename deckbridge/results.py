@@ -138,13 +138,27 @@ class SourceResult:
     globals: dict[str, dict] = field(default_factory=dict)
     fields: dict | None = None
     summary: dict | None = None
+    wall: pd.DataFrame | None = None      # base-wall sigma_zz per state (deckbridge.wall_stress.WALL_COLUMNS)
+
+    def wall_at(self, step: int, increment: int, load_factor: float) -> pd.DataFrame | None:
+        """Rows of :attr:`wall` of one state: step 1 its last increment, step 2 the same load factor."""
+        w = self.wall
+        if w is None or w.empty:
+            return None
+        if step == 1:
+            s1 = w[w["step"] == 1]
+            return s1[s1["increment"] == s1["increment"].max()] if len(s1) else None
+        s2 = w[(w["step"] == 2) & (np.abs(w["load_factor"] - load_factor) <= 1e-9 * max(1.0, abs(load_factor)))]
+        if s2.empty:
+            return None
+        return s2[s2["increment"] == s2["increment"].max()]
 
     @classmethod
     def wrap(cls, obj, origin=None) -> "SourceResult":
         """``obj`` itself when already a record, else a plain table wrapped with no globals."""
         if isinstance(obj, SourceResult):
             return obj if origin is None or obj.origin is not None else cls(obj.table, str(origin), obj.globals,
-                                                                           obj.fields, obj.summary)
+                                                                           obj.fields, obj.summary, obj.wall)
         return cls(obj, None if origin is None else str(origin))
 
     def globals_for(self, method: str) -> dict:

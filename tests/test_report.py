@@ -89,7 +89,8 @@ def test_report_files_and_their_content(report):
     assert "125.000" in text and "not available for this source" in text
     assert s["model"]["mesh"]["n_theta"] == 16
     # liftoff: -10 + 16 lam cos(0) = 0 at lam = 0.625, interpolated between the increments 0.5 and 1
-    assert s["sources"]["reference/penalty"]["liftoff_load_factor"] == pytest.approx(0.625)
+    onset = s["sources"]["reference/penalty"]["onset_first_node"]
+    assert onset["interpolated"] == pytest.approx(0.625) and onset["bracket"] == [0.5, 1.0] and onset["exact"] is None
 
 
 def test_global_metrics_from_a_result_vtu(tmp_path):

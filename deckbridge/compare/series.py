@@ -67,6 +67,12 @@ class Series:
         tol = LAMBDA_TOL * max(1.0, abs(lam))
         return lo - tol <= lam <= hi + tol
 
+    def state_at(self, lam: float) -> State | None:
+        """The printed state at load factor ``lam`` (the last one when several), None between states."""
+        tol = LAMBDA_TOL * max(1.0, abs(lam))
+        hit = np.flatnonzero(np.abs(self.load_factors - lam) <= tol)
+        return self.states[int(hit[-1])] if hit.size else None
+
     def at(self, lam: float) -> Profile:
         """Profile at load factor ``lam`` (a state's own, or linear between the two around it)."""
         if not self.covers(lam):

@@ -110,8 +110,9 @@ def read_source(path, model=None) -> SourceResult:
             summary = json.loads((folder / "summary.json").read_text())
         except (OSError, ValueError):
             summary = None
+    from ..wall_stress import read_wall
     return SourceResult(table, str(path), summary=summary if isinstance(summary, dict) else None,
-                        **read_globals(path, table["method"].unique()))
+                        wall=read_wall(folder), **read_globals(path, table["method"].unique()))
 
 
 def read_globals(origin, methods) -> dict:
