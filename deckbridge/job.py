@@ -23,6 +23,7 @@ from .outdir import prepare
 from .render import render_all
 from .readers.reference import read_globals
 from .report import write_report
+from .report.caveats import reference_caveats
 from .results import SourceResult
 from .solve import condense_model, solve_system, write_outputs
 from .wall_stress import ccx_wall, reference_section_onset, reference_wall, write_wall
@@ -48,6 +49,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
         folder = out / f"reference_{method}"
         lam_s, th_s = reference_section_onset(system, mesh, sol)
         summary["section_liftoff_load_factor"], summary["section_liftoff_theta_deg"] = lam_s, th_s
+        summary["caveats"] = reference_caveats(model, mesh, system, sol)
         write_outputs(folder, model, system, sol, df, summary)
         wall = reference_wall(system, mesh, sol)
         write_wall(folder, wall)

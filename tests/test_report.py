@@ -74,8 +74,10 @@ def test_report_files_and_their_content(report):
     # self-contained: no resource fetched from anywhere
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:|//|file:)""", text)
     pngs = re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)
-    assert len(pngs) == len(res.points) + 2      # headline figure + one per load factor + global figure
-    for b64 in pngs[:-1]:
+    n_path = 2 + 2 * len(res.points)             # load path, status map; centred and through-wall per point
+    assert len(pngs) == len(res.points) + 2 + n_path   # headline + one per load factor + load path + global
+    assert text.count('<img class="path"') == n_path
+    for b64 in re.findall(r'<img class="figure"[^>]*src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text):
         assert Image.open(io.BytesIO(base64.b64decode(b64))).size == (990, 528)
     assert text.count('<img class="global"') == 1
     assert (out / "sigma_n.png").read_bytes() == base64.b64decode(pngs[0])
@@ -123,7 +125,7 @@ def test_report_opens_in_headless_chromium_and_shows_the_figure(report, tmp_path
     assert dom.returncode == 0, dom.stderr[-2000:]
     body = re.search(r"<body([^>]*)>", dom.stdout).group(1)
     attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', body))
-    n_img = len(res.points) + 2
+    n_img = len(res.points) + 2 + 2 + 2 * len(res.points)
     assert attrs["images"] == f"{n_img}/{n_img}"            # every <img> loaded and decoded
     assert attrs["errors"] == "0"                           # no script error on the page
     assert dom.stdout.count('src="data:image/png;base64,') == n_img
