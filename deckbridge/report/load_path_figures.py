@@ -120,6 +120,9 @@ def through_wall_figure(point, labels: list[str], azimuth_deg: float) -> Figure:
             if np.isfinite(v).any():
                 rel, s = centred(d["theta_deg"], v, azimuth_deg)
                 ax.plot(rel, s / 1e6, style, lw=1.2, label=ring)
+        lo = min(0.0, ax.get_ylim()[0])
+        ax.set_ylim(lo * 1.05 if lo < 0 else -1.0, max(0.0, ax.get_ylim()[1]) + 0.02 * abs(lo or 1.0))
+        ax.ticklabel_format(axis="y", useOffset=False)          # round-off must not look like a profile
         ax.set_title(f"{lab}, λ = {point.load_factor:.4g}", fontsize=8)
         ax.set_xlim(-180, 180)
         ax.set_xlabel("θ from the tension side [deg]")
