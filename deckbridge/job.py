@@ -83,6 +83,14 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
              + ("" if pk is None else f"; at lambda = {result.primary.load_factor:.4g} peak sigma_n "
                 f"{pk[0] / 1e6:.1f} MPa through the wall")
              + ("" if node is None else f", {node[0] / 1e6:.1f} MPa at one node"))
+        for pt in result.points:                # the checks that warn (definitions: deckbridge/quantities.py)
+            ex = pt.extra.get(s.label, {})
+            if ex.get("warn"):
+                echo(f"  warning: lambda = {pt.load_factor:.4g}: base-wall sigma_zz equilibrium residual "
+                     f"{ex['szz_resultant_residual']:.2%} (> 1 %)")
+            if ex.get("open_tension_ratio", 0.0) > 0.01:
+                echo(f"  warning: lambda = {pt.load_factor:.4g}: open gaps carry tension up to "
+                     f"{ex['max_open_sigma_n_pa'] / 1e6:.3g} MPa ({ex['open_tension_ratio']:.1%} of the peak; kept)")
     paths = write_report(result, out, model=model)
     report = out / "report.html"
     echo(f"report: {report} ({time.perf_counter() - t0:.1f} s in all)")

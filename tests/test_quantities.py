@@ -167,3 +167,40 @@ def test_ccx_onset_bracket_holds_the_exact_reference_value(ccx):
     assert lo - step <= summary["liftoff_load_factor"] <= hi + step       # in or next to it
     sec = res.onsets[res.labels[0]]["section"]
     assert sec["bracket"] is not None and sec["bracket"][1] >= lo
+
+
+def test_line_load_is_the_through_wall_stress_times_the_thickness_on_a_uniform_state(ref):
+    """Under N alone q = -N / (2 pi R_mid) up to the faceting: Sum q x arc = the resultant exactly."""
+    model, _, _, out = ref
+    res = compare_tables([out["penalty"]], load_factors=[0.0])
+    q = res.primary.extra["reference/penalty"]["line_load_n_per_m"]
+    arc = np.radians(360.0 / model.mesh.n_theta) * model.geometry.radius
+    assert np.sum(q["q"]) * arc == pytest.approx(-model.loads.N, rel=1e-9)
+    np.testing.assert_allclose(q["q"], -model.loads.N / (2 * np.pi * model.geometry.radius), rtol=1e-9)
+
+
+def test_zone_rules_min_width_tolerance_and_uniform_peak():
+    from deckbridge.compare.metrics import liftoff_zones, peak_compression, zone_iou_tol
+    from deckbridge.compare.profile import Profile
+    th = np.arange(36) * 10.0
+    s = -np.ones(36)
+    s[0] = 0.0                                            # one open node at 0 deg: narrower than an element arc
+    p = Profile(th, s, s == 0.0)
+    assert liftoff_zones(p) == [] and liftoff_zones(p, min_width_deg=0.0) == [[0.0, 0.0]]
+    s2 = -np.cos(np.radians(th)) - 0.5                    # lifted where cos < -0.5: (120, 240)
+    assert len(liftoff_zones(Profile(th, s2, np.zeros(36, bool)))) == 1
+    # zones one element arc apart overlap fully with the tolerance, partly without
+    assert zone_iou_tol([[350.0, 30.0]], [[355.0, 35.0]], 10.0) == 1.0
+    assert zone_iou_tol([], [], 10.0) is None
+    assert zone_iou_tol([[0.0, 20.0]], [[180.0, 200.0]], 10.0) == 0.0
+    # lambda = 0: round-off spread -> no location
+    assert peak_compression(Profile(th, -14.3e6 * (1 + 1e-13 * np.sin(th)), np.zeros(36, bool)))[1] is None
+
+
+def test_open_gap_tension_is_kept_and_warned():
+    df = pd.DataFrame({"surface": "table", "theta_deg": [0.0, 0.0, 180.0, 180.0], "r": [1.49, 1.51] * 2,
+                       "sigma_n_pa": [2e6, 1e6, -100e6, -90e6], "status": ["open", "open", "closed", "closed"],
+                       "area_m2": [1.0, 1.0, 1.0, 1.0], "force_n": [-2e6, -1e6, 100e6, 90e6], "wall": [0, 1] * 2})
+    t = Q.open_tension(df)
+    assert t["max_open_sigma_n_pa"] == 2e6 and t["open_tension_ratio"] == pytest.approx(0.02) and t["warn"]
+    assert Q.sigma_n_wall(df).loc[0.0] == pytest.approx(1.5e6)        # tension stays sigma_N > 0

@@ -204,6 +204,11 @@ def state_quantities(rows, record: SourceResult | None, st) -> dict:
            "contact_resultant_n": -Q.contact_resultant(rows),
            "sigma_n_nodes_pa": {"theta_deg": nodes.index.tolist(),
                                 **{c: nodes[c].tolist() for c in ("inner", "mid", "outer")}}}
+    tb = Q.table_rows(rows)
+    r = tb["r"].to_numpy(float)
+    if np.isfinite(r).all() and np.isfinite(tb["force_n"].to_numpy(float)).all() and len(r):
+        q = Q.line_load(rows, 0.5 * (r.min() + r.max()))          # at the mid-wall radius
+        out["line_load_n_per_m"] = {"theta_deg": q.index.tolist(), "q": q.tolist()}
     wall = None if record is None else record.wall_at(st.step, st.increment, st.load_factor)
     if wall is not None and len(wall):
         out["szz_pa"] = {c: wall[c].tolist() for c in ("theta_deg", "szz_inner_pa", "szz_outer_pa",
