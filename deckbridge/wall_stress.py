@@ -96,3 +96,16 @@ def reference_section_onset(system: rs.CondensedSystem, mesh, sol: rs.Solution) 
     groups, keys = azimuth_groups(system, mesh)
     lam, g = section_onset(system, sol, groups, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0})
     return lam, (None if g is None else float(keys[g]))
+
+
+def with_ccx_wall(table: pd.DataFrame, path, model):
+    """A :class:`~deckbridge.results.SourceResult` of a ccx result ``path`` (file of one job) with its
+    base-wall table when the job's ``.dat`` holds *EL PRINT S and the model is known; else the table."""
+    from .mesh import build_mesh
+    from .results import SourceResult
+    p = Path(str(path))
+    dat = p.with_suffix(".dat")
+    if model is None or p.is_dir() or not dat.is_file():
+        return table
+    wall = ccx_wall(dat, build_mesh(model), model.steps.lambda_max)
+    return table if wall is None else SourceResult(table, str(path), wall=wall)
