@@ -2,7 +2,7 @@
 comparison and report. Layout of the output folder DIR:
 
   DIR/decks/                 every deck of the model
-  DIR/reference_penalty/     contact.csv, summary.json, result.vtu (reference solver, penalty)
+  DIR/reference_penalty/     contact.csv, summary.json, result.vtu, wall_stress.csv (reference solver, penalty)
   DIR/reference_lagrange/    the same with Lagrange multipliers
   DIR/ccx/                   CalculiX jobs and results (--with-ccx)
   DIR/report.html, sigma_n.png, discrepancy.csv, summary.json   the comparison
@@ -16,14 +16,17 @@ from pathlib import Path
 from typing import Callable
 
 from .compare import compare_tables
+from .compare.onsets import describe
 from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare
 from .render import render_all
 from .readers.reference import read_globals
 from .report import write_report
+from .report.caveats import reference_caveats
 from .results import SourceResult
 from .solve import condense_model, solve_system, write_outputs
+from .wall_stress import ccx_wall, reference_section_onset, reference_wall, write_wall
 
 Echo = Callable[[str], None]
 
@@ -45,12 +48,13 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     for method in ("penalty", "lagrange"):
         df, summary, sol = solve_system(model, mesh, system, method, recover=model.outputs.vtu)
         folder = out / f"reference_{method}"
+        lam_s, th_s = reference_section_onset(system, mesh, sol)
+        summary["section_liftoff_load_factor"], summary["section_liftoff_theta_deg"] = lam_s, th_s
+        summary["caveats"] = reference_caveats(model, mesh, system, sol)
         write_outputs(folder, model, system, sol, df, summary)
-        lam = summary["liftoff_load_factor"]
-        echo(f"reference {method}: liftoff at lambda = "
-             + ("none" if lam is None else f"{lam:.4f} (theta {summary['liftoff_theta_deg']:.1f} deg)")
-             + f", min sigma_n {summary['min_sigma_n_pa'] / 1e6:.2f} MPa")
-        tables.append(SourceResult(df, str(folder), summary=summary, **read_globals(folder, [method])))
+        wall = reference_wall(system, mesh, sol)
+        write_wall(folder, wall)
+        tables.append(SourceResult(df, str(folder), summary=summary, wall=wall, **read_globals(folder, [method])))
         origins.append(str(folder))
         summaries[method] = summary
 
@@ -67,10 +71,27 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
             run = runner.run(job, timeout_s=ccx_timeout_s,
                              progress=lambda line: line.lower().startswith("increment") and echo(f"  ccx {line}"))
             echo(f"ccx: {job.name} finished in {run.seconds:.1f} s")
-            tables.append(read(job.with_suffix(".frd"), fmt=calculix.reader, model=model))
+            wall = ccx_wall(job.with_suffix(".dat"), mesh, model.steps.lambda_max)
+            tables.append(SourceResult(read(job.with_suffix(".frd"), fmt=calculix.reader, model=model), str(job),
+                                       wall=wall))
             origins.append(str(job))
 
     result = compare_tables(tables, origins=origins)
+    for s in result.series:                     # the comparison's numbers, as summary.json and the report
+        o = result.onsets[s.label]
+        pk, node = result.primary.peaks.get(s.label), result.primary.node_peaks.get(s.label)
+        echo(f"{s.label}: onset first node {describe(o['first_node'])}, whole section {describe(o['section'])}"
+             + ("" if pk is None else f"; at lambda = {result.primary.load_factor:.4g} peak sigma_n "
+                f"{pk[0] / 1e6:.1f} MPa through the wall")
+             + ("" if node is None else f", {node[0] / 1e6:.1f} MPa at one node"))
+        for pt in result.points:                # the checks that warn (definitions: deckbridge/quantities.py)
+            ex = pt.extra.get(s.label, {})
+            if ex.get("warn"):
+                echo(f"  warning: lambda = {pt.load_factor:.4g}: base-wall sigma_zz equilibrium residual "
+                     f"{ex['szz_resultant_residual']:.2%} (> 1 %)")
+            if ex.get("open_tension_ratio", 0.0) > 0.01:
+                echo(f"  warning: lambda = {pt.load_factor:.4g}: open gaps carry tension up to "
+                     f"{ex['max_open_sigma_n_pa'] / 1e6:.3g} MPa ({ex['open_tension_ratio']:.1%} of the peak; kept)")
     paths = write_report(result, out, model=model)
     report = out / "report.html"
     echo(f"report: {report} ({time.perf_counter() - t0:.1f} s in all)")

@@ -26,7 +26,7 @@ from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
 from .model import Model
 from .outdir import staged
-from .results import conform
+from .results import conform, with_forces
 
 SOURCE = "reference"
 
@@ -138,13 +138,14 @@ def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFr
     rows = mesh.contact_rows
     rep = lambda a: np.repeat(a, nc)  # noqa: E731
     til = lambda a: np.tile(a, ni)    # noqa: E731
-    df = pd.DataFrame({
+    df = with_forces(pd.DataFrame({
         "source": SOURCE, "method": sol.method, "step": rep(sol.step), "increment": rep(sol.increment),
         "load_factor": rep(sol.load_factor), "node": til(p.contact_nodes + 1),
         "surface": til(p.contact_surface), "theta_deg": til(wrap_deg(rows.theta)),
         "z": til(rows.z), "r": til(rows.r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": sol.gap.ravel(),
         "status": np.where(sol.closed.ravel(), "closed", "open"),
-    })
+    }), til(p.contact_area))
+    df["force_n"] = sol.force.ravel()           # the solver's own (> 0 compressive); sigma_n = -force / area
     return conform(df)
 
 

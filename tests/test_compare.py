@@ -19,7 +19,7 @@ from deckbridge.compare import LoadFactorError, compare_tables
 from deckbridge.compare.metrics import zone_iou
 from deckbridge.errors import DeckbridgeError
 from deckbridge.model import load
-from deckbridge.results import COLUMNS, conform
+from deckbridge.results import COLUMNS, REQUIRED, conform
 
 MPA = 1e6
 
@@ -44,7 +44,7 @@ def make_table(source, method, n_theta, sigma, lams=(1.0,), n_wall=1, wall_split
             for j in range(n_theta):
                 rows.append((source, method, step, inc, lam, w * n_theta + j + 1, "table", th[j], 0.0,
                              1.5 + 0.01 * w, v[j], 1e-5 if up[j] else 0.0, "open" if up[j] else "closed"))
-    return conform(pd.DataFrame(rows, columns=COLUMNS))
+    return conform(pd.DataFrame(rows, columns=REQUIRED))
 
 
 def beam(model):
@@ -213,7 +213,9 @@ def test_compare_command_writes_the_four_outputs(tmp_path, small_model):
     s = json.loads((out / "summary.json").read_text())
     assert s["load_factors"] == pytest.approx([0.0, 0.6, 1.0])
     lam_c = small_model.loads.N * small_model.geometry.radius / (2 * small_model.base_moment)
-    assert s["sources"]["reference/penalty"]["liftoff_load_factor"] == pytest.approx(lam_c)
+    onset = s["sources"]["reference/penalty"]["onset_first_node"]       # no solver summary: estimate + bracket
+    assert onset["exact"] is None and onset["interpolated"] == pytest.approx(lam_c)
+    assert onset["bracket"][0] <= lam_c <= onset["bracket"][1] and onset["bracket"] == pytest.approx([0.5, 0.6])
     pair = s["pairs"][0]
     # d = -0.1 f at lambda 1: largest at 180 deg (|f| largest)
     assert pair["max_abs_diff_pa"] == pytest.approx(0.1 * abs(f(180.0, 1.0)))

@@ -39,3 +39,39 @@ def test_run_with_ccx_writes_the_report_and_all_sources_agree_under_N(tmp_path):
         s = json.loads((out / f"reference_{method}" / "summary.json").read_text())
         for step in ("1", "2"):
             assert s["reaction_force_n"][step][2] == pytest.approx(m.loads.N, rel=1e-8)
+    # the load path the report draws: its data against the reference's own contact.csv
+    import pandas as pd
+    for method in ("penalty", "lagrange"):
+        lab = f"reference/{method}"
+        path = summary["load_path"][lab]
+        df = pd.read_csv(out / f"reference_{method}" / "contact.csv")
+        tb = df[df.surface == "table"]
+        onset = summary["sources"][lab]["onset_first_node"]["exact"]
+        section = summary["sources"][lab]["onset_section"]["exact"]
+        assert onset <= section
+        assert f"onset first node λ = {onset:.4f} (exact), whole section λ = {section:.4f} (exact)" in res.output
+        for k, lam in enumerate(path["load_factor"]):
+            st = tb[(tb.step == 2) & np.isclose(tb.load_factor, lam)] if lam > 0 else tb[tb.step == 1]
+            at0 = st[np.isclose(st.theta_deg, 0.0)]
+            assert path["tension_side_pa"][k] == pytest.approx(-at0.force_n.sum() / at0.area_m2.sum(), rel=1e-9)
+            assert path["peak_node_pa"][k] == pytest.approx(st.sigma_n_pa.min(), rel=1e-12)
+            if lam < onset:
+                assert path["lifted_arc_deg"][k] == 0.0
+            if lam > section:
+                assert path["lifted_arc_deg"][k] >= 360.0 / m.mesh.n_theta
+        # beam theory line: -N / (2 pi R t) - lam M_b / (pi R^2 t) at the compression side
+        g = m.geometry
+        lam = np.asarray(path["load_factor"])
+        want = -m.loads.N / (2 * np.pi * g.radius * g.thickness) - lam * m.base_moment / (np.pi * g.radius ** 2 * g.thickness)
+        np.testing.assert_allclose(path["beam_compression_side_pa"], want, rtol=1e-12)
+    # the decks that run NLGEOM although analysis.nlgeom is false (the dialect record says which: with the
+    # inner stop, the mortar deck's GAPUNI stop gaps need it) get a banner; the linear penalty deck none
+    from deckbridge.dialects import DIALECTS
+    forced = DIALECTS["calculix"].nlgeom_forced(m)
+    assert forced, "the default stop makes the mortar deck run NLGEOM"
+    banners = summary["caveats"]["banners"]
+    assert any(b.startswith("ccx/mortar: analysis differs") and "NLGEOM" in b for b in banners), banners
+    assert not any(b.startswith("ccx/penalty: analysis differs") and "NLGEOM" in b for b in banners), banners
+    prov = summary["provenance"]
+    assert len(prov["model_sha256"]) == 64 and prov["date_utc"].endswith("+00:00")
+    assert summary["status_map"]["reference/lagrange"]["status"][-1].count(2) >= 1

@@ -12,7 +12,7 @@ import pytest
 from deckbridge import readers
 from deckbridge.compare import compare_tables
 from deckbridge.errors import DeckbridgeError
-from deckbridge.results import COLUMNS, conform
+from deckbridge.results import COLUMNS, REQUIRED, conform
 
 # Abaqus/Standard .dat layout: increment summaries, a node table (ignored), contact tables per pair.
 ABAQUS_DAT = """1
@@ -180,7 +180,7 @@ def _reference_table(n_theta=16):
     s = -5e6 + 8e6 * np.cos(np.radians(th))
     rows = [("reference", "penalty", 2, 1, 1.0, j + 1, "table", th[j], 0.0, 1.49, s[j], 0.0,
              "open" if s[j] > 0 else "closed") for j in range(n_theta)]
-    return conform(pd.DataFrame(rows, columns=COLUMNS))
+    return conform(pd.DataFrame(rows, columns=REQUIRED))
 
 
 def test_reference_folder_and_csv_are_detected_and_read(tmp_path, small_model):

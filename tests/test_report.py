@@ -18,7 +18,7 @@ from PIL import Image
 from deckbridge.compare import compare_tables
 from deckbridge.readers.reference import global_metrics, read_source
 from deckbridge.report import write_report
-from deckbridge.results import COLUMNS, conform
+from deckbridge.results import COLUMNS, REQUIRED, conform
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -33,7 +33,7 @@ def table(method, scale, n_theta=24, lams=(0.5, 1.0)):
         s = scale * 1e6 * (-10 + 16 * lam * np.cos(np.radians(th)))
         rows += [("reference", method, step, inc, lam, j + 1, "table", th[j], 0.0, 1.5, s[j], 0.0,
                   "open" if s[j] > 0 else "closed") for j in range(n_theta)]
-    return conform(pd.DataFrame(rows, columns=COLUMNS))
+    return conform(pd.DataFrame(rows, columns=REQUIRED))
 
 
 def _write_vtu(path, model):
@@ -74,8 +74,10 @@ def test_report_files_and_their_content(report):
     # self-contained: no resource fetched from anywhere
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:|//|file:)""", text)
     pngs = re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)
-    assert len(pngs) == len(res.points) + 2      # headline figure + one per load factor + global figure
-    for b64 in pngs[:-1]:
+    n_path = 2 + 2 * len(res.points)             # load path, status map; centred and through-wall per point
+    assert len(pngs) == len(res.points) + 2 + n_path   # headline + one per load factor + load path + global
+    assert text.count('<img class="path"') == n_path
+    for b64 in re.findall(r'<img class="figure"[^>]*src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text):
         assert Image.open(io.BytesIO(base64.b64decode(b64))).size == (990, 528)
     assert text.count('<img class="global"') == 1
     assert (out / "sigma_n.png").read_bytes() == base64.b64decode(pngs[0])
@@ -89,7 +91,8 @@ def test_report_files_and_their_content(report):
     assert "125.000" in text and "not available for this source" in text
     assert s["model"]["mesh"]["n_theta"] == 16
     # liftoff: -10 + 16 lam cos(0) = 0 at lam = 0.625, interpolated between the increments 0.5 and 1
-    assert s["sources"]["reference/penalty"]["liftoff_load_factor"] == pytest.approx(0.625)
+    onset = s["sources"]["reference/penalty"]["onset_first_node"]
+    assert onset["interpolated"] == pytest.approx(0.625) and onset["bracket"] == [0.5, 1.0] and onset["exact"] is None
 
 
 def test_global_metrics_from_a_result_vtu(tmp_path):
@@ -122,7 +125,7 @@ def test_report_opens_in_headless_chromium_and_shows_the_figure(report, tmp_path
     assert dom.returncode == 0, dom.stderr[-2000:]
     body = re.search(r"<body([^>]*)>", dom.stdout).group(1)
     attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', body))
-    n_img = len(res.points) + 2
+    n_img = len(res.points) + 2 + 2 + 2 * len(res.points)
     assert attrs["images"] == f"{n_img}/{n_img}"            # every <img> loaded and decoded
     assert attrs["errors"] == "0"                           # no script error on the page
     assert dom.stdout.count('src="data:image/png;base64,') == n_img

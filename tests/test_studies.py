@@ -90,11 +90,12 @@ def test_liftoff_cli_prints_the_table_and_writes_the_summary(tmp_path):
 
 # ----------------------------------------------------------------------------- sweep
 def _profile(sol, p, row):
-    """Through-wall mean sigma_N per azimuth of the table rows at one increment (independent of compare)."""
+    """Through-wall sigma_N per azimuth of the table rows at one increment (independent of compare):
+    -Sum force / Sum area (the solver's forces and areas)."""
     tab = np.flatnonzero(p.contact_surface == "table")
     xy = p.nodes[p.contact_nodes[tab], :2]
     th = np.round(np.mod(np.degrees(np.arctan2(xy[:, 1], xy[:, 0])), 360.0), 6)
-    return pd.Series(sol.sigma_n[row, tab]).groupby(th).mean()
+    return -pd.Series(sol.force[row, tab]).groupby(th).sum() / pd.Series(p.contact_area[tab]).groupby(th).sum()
 
 
 def _open_ratio(system, ratio):

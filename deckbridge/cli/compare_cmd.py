@@ -11,7 +11,9 @@ from ..errors import DeckbridgeError
 from ..model import load
 from ..readers import detect, formats, read
 from ..readers.reference import read_source
+from ..compare.onsets import describe
 from ..report import write_report
+from ..wall_stress import with_ccx_wall
 from ._common import main
 
 
@@ -39,13 +41,17 @@ def compare_cmd(sources, outdir, model_path, overrides, load_factors, formats, s
     tables, inputs = [], {}
     for src, fmt in zip(sources, fmts):
         name = fmt or detect(src)
-        tables.append(read_source(src, model=model) if name == "reference" else read(src, fmt=name, model=model))
+        tab = read_source(src, model=model) if name == "reference" else read(src, fmt=name, model=model)
+        tables.append(with_ccx_wall(tab, src, model) if name == "calculix" else tab)
         inputs[src] = name
     result = compare_tables(tables, load_factors=list(load_factors) or None, origins=list(sources), surface=surface)
     shown = {s.label: f"{s.origin} ({inputs[s.origin]})" for s in result.series}
     paths = write_report(result, outdir, model=model, extra={"inputs": shown})
     for p in paths:
         click.echo(f"wrote {p}")
+    for s in result.series:
+        o = result.onsets[s.label]
+        click.echo(f"{s.label}: onset first node {describe(o['first_node'])}, whole section {describe(o['section'])}")
     for pair in result.primary.pairs:
         click.echo(f"lambda = {pair['load_factor']:.4g}: {pair['b']} - {pair['a']}: max |d sigma_n| = "
                    f"{pair['max_abs_diff_pa'] / 1e6:.3f} MPa at {pair['theta_of_max_diff_deg']:.1f} deg, "

@@ -27,8 +27,28 @@ def lifted(profile: Profile) -> np.ndarray:
     return (profile.sigma > LIFT_RTOL * scale) | profile.all_open
 
 
-def liftoff_zones(profile: Profile) -> list[list[float]]:
-    """Liftoff zones of a profile as [[theta_start, theta_end], ...] in degrees (see module doc)."""
+def element_arc(profile: Profile) -> float:
+    """The widest arc between neighbouring azimuths of a profile [deg] (one element arc)."""
+    th = np.sort(profile.theta)
+    return 360.0 if th.size < 2 else float(np.max(np.mod(np.roll(th, -1) - th, 360.0)))
+
+
+def liftoff_zones(profile: Profile, min_width_deg: float | None = None) -> list[list[float]]:
+    """Liftoff zones of a profile as [[theta_start, theta_end], ...] in degrees (see module doc).
+
+    Zones narrower than ``min_width_deg`` (default one element arc, :func:`element_arc`) are not
+    zones (a single open node at a crossing, round-off); a zone through 0 deg is one zone."""
+    zones = _raw_zones(profile)
+    width = element_arc(profile) if min_width_deg is None else min_width_deg
+    return [z for z in zones if _width(z) >= width * (1 - 1e-9)]
+
+
+def _width(z) -> float:
+    a, b = z
+    return 360.0 if (a == 0.0 and b == 360.0) else (b - a) % 360.0
+
+
+def _raw_zones(profile: Profile) -> list[list[float]]:
     th, s, up = profile.theta, profile.sigma, lifted(profile)
     n = th.size
     if not up.any():
@@ -99,10 +119,41 @@ def zone_iou(za: list[list[float]], zb: list[list[float]]) -> float:
     return inter / union
 
 
-def peak_compression(profile: Profile) -> tuple[float, float]:
-    """Most negative sigma_N [Pa] of a profile and its azimuth [deg]."""
+UNIFORM_RTOL = 1e-6
+
+
+def peak_compression(profile: Profile) -> tuple[float, float | None]:
+    """Most negative sigma_N [Pa] of a profile and its azimuth [deg]; the azimuth is None ('uniform')
+    when the profile's spread is below UNIFORM_RTOL of its largest |sigma_N| (no location to tell)."""
     i = int(np.argmin(profile.sigma))
+    scale = float(np.max(np.abs(profile.sigma))) if profile.sigma.size else 0.0
+    if float(np.ptp(profile.sigma)) <= UNIFORM_RTOL * scale:
+        return float(profile.sigma[i]), None
     return float(profile.sigma[i]), float(profile.theta[i])
+
+
+def _grow(iv: list[tuple[float, float]], tol: float) -> list[list[float]]:
+    out = []
+    for a, b in iv:
+        if b - a + 2 * tol >= 360.0:
+            return [[0.0, 360.0]]
+        out.append([(a - tol) % 360.0, (b + tol) % 360.0])
+    return out
+
+
+def zone_iou_tol(za: list[list[float]], zb: list[list[float]], tol_deg: float) -> float | None:
+    """Overlap of two zone sets with a tolerance: (|A in B grown by tol| + |B in A grown by tol|) /
+    (|A| + |B|), grown = each interval widened by ``tol_deg`` at both ends; None when neither has a
+    zone ('no zone'); 1.0 for zones that differ by less than the tolerance."""
+    ia, ib = zone_intervals(za), zone_intervals(zb)
+    la, lb = _length(ia), _length(ib)
+    if la + lb == 0.0:
+        return None
+
+    def inside(x, y):
+        return sum(max(0.0, min(a1, b1) - max(a0, b0)) for a0, a1 in x for b0, b1 in y)
+    num = inside(ia, zone_intervals(_grow(ib, tol_deg))) + inside(ib, zone_intervals(_grow(ia, tol_deg)))
+    return min(1.0, num / (la + lb))
 
 
 def pair_metrics(theta: np.ndarray, sigma_a: np.ndarray, sigma_b: np.ndarray) -> dict:

@@ -19,7 +19,9 @@ from ..errors import DeckbridgeError
 from ..jsonable import json_clean
 from ..results import SourceResult
 from .align import align
-from .metrics import liftoff_load_factor, liftoff_zones, pair_metrics, peak_compression, zone_iou
+from .. import quantities as Q
+from .metrics import element_arc, liftoff_zones, pair_metrics, peak_compression, zone_iou, zone_iou_tol
+from .onsets import best, onsets
 from .profile import LAMBDA_TOL, Profile
 from .series import Series, split_tables
 
@@ -33,9 +35,11 @@ class PointResult:
     profiles: dict[str, Profile]                # each source on its own azimuths
     aligned: pd.DataFrame                       # sigma_N [Pa] on the common grid, one column per label
     zones: dict[str, list[list[float]]]
-    peaks: dict[str, tuple[float, float]]       # (sigma_N [Pa], theta [deg]) of the peak compression
+    peaks: dict[str, tuple[float, float | None]]   # through-wall (sigma_N [Pa], theta [deg] or None: uniform)
     pairs: list[dict]
     skipped: list[str] = field(default_factory=list)
+    node_peaks: dict[str, tuple[float, float] | None] = field(default_factory=dict)  # one node's (sigma_N, theta)
+    extra: dict[str, dict] = field(default_factory=dict)    # per label: node values, wall sigma_zz, checks
 
 
 @dataclass
@@ -43,8 +47,14 @@ class ComparisonResult:
     """Sources, the load factors they were compared at, and the metrics (see :meth:`summary`)."""
     series: list[Series]
     points: list[PointResult]
-    liftoff: dict[str, float | None]
+    onsets: dict[str, dict]                     # label -> compare.onsets.onsets(...) (first_node, section)
     sources: dict[str, SourceResult] = field(default_factory=dict)   # label -> the record it came from
+
+    @property
+    def liftoff(self) -> dict[str, float | None]:
+        """label -> first-node onset to place points by (exact, else interpolated, else bracket end);
+        the labelled values are in :attr:`onsets`."""
+        return {lab: best(o["first_node"]) for lab, o in self.onsets.items()}
 
     def source(self, label: str) -> SourceResult | None:
         """The record a series came from (its globals, fields, solver summary), None if not given."""
@@ -78,21 +88,25 @@ class ComparisonResult:
         sources = {}
         for s in self.series:
             lo, hi = s.lf_range
-            peak = prim.peaks.get(s.label)
             sources[s.label] = {
                 "source": s.source, "method": s.method, "input": s.origin, "n_theta": s.n_theta,
                 "load_factor_range": [lo, hi],
-                "liftoff_load_factor": self.liftoff[s.label],
-                "liftoff_zones": prim.zones.get(s.label),
-                "peak_compression_pa": None if peak is None else peak[0],
-                "peak_compression_theta_deg": None if peak is None else peak[1],
+                "onset_first_node": self.onsets[s.label]["first_node"],
+                "onset_section": self.onsets[s.label]["section"],
+                **_peak_keys(prim, s.label),
             }
         return json_clean({
             "conventions": "sigma_n < 0 compression, > 0 tension/liftoff [Pa]; theta [deg] CCW from +x; "
                            "pair differences are sigma_b - sigma_a; liftoff zones [start, end] CCW, "
                            "start > end wraps through 0; overlap = intersection over union on the circle; "
-                           "liftoff_load_factor = onset at the first table slave node; zones and peaks from the "
-                           "through-wall mean sigma_n per azimuth",
+                           "onset_first_node: the first table slave node opens; onset_section: every through-wall "
+                           "node of one azimuth open; each with exact (reference solver), bracket [lambda_i, "
+                           "lambda_i+1] of the printed states, interpolated (estimate); zones and peak_compression "
+                           "from the through-wall sigma_n = -Sum force / Sum area per azimuth, peak_node = one node; "
+                           "zones narrower than one element arc are dropped; liftoff_zone_overlap_tol = overlap "
+                           "with a tolerance of one element arc (null: no zone in either)",
+            "definitions": {k: {"unit": q.unit, "weighting": q.weighting, "definition": q.definition}
+                            for k, q in Q.DEFINITIONS.items()},
             "load_factors": [p.load_factor for p in self.points],
             "primary_load_factor": prim.load_factor,
             "sources": sources,
@@ -100,11 +114,19 @@ class ComparisonResult:
             "comparisons": [{
                 "load_factor": p.load_factor, "what": p.what, "sources_compared": p.labels,
                 "sources_skipped": p.skipped,
-                "sources": {lab: {"liftoff_zones": p.zones[lab], "peak_compression_pa": p.peaks[lab][0],
-                                  "peak_compression_theta_deg": p.peaks[lab][1]} for lab in p.labels},
+                "sources": {lab: {"liftoff_zones": p.zones[lab], **_peak_keys(p, lab), **p.extra.get(lab, {})}
+                            for lab in p.labels},
                 "pairs": p.pairs,
             } for p in self.points],
         })
+
+
+def _peak_keys(pt: PointResult, label: str) -> dict:
+    peak, node = pt.peaks.get(label), pt.node_peaks.get(label)
+    return {"peak_compression_pa": None if peak is None else peak[0],
+            "peak_compression_theta_deg": None if peak is None else ("uniform" if peak[1] is None else peak[1]),
+            "peak_node_sigma_n_pa": None if node is None else node[0],
+            "peak_node_theta_deg": None if node is None else node[1]}
 
 
 def _same(a: float, b: float) -> bool:
@@ -143,7 +165,7 @@ def default_load_factors(series: list[Series], liftoff: dict[str, float | None])
     return pts
 
 
-def compare_at(series: list[Series], lam: float, what: str, strict: bool) -> PointResult:
+def compare_at(series: list[Series], lam: float, what: str, strict: bool, records: dict | None = None) -> PointResult:
     """Compare the series at load factor ``lam``; ``strict``: a source lacking it is an error."""
     use, skipped = [], []
     for s in series:
@@ -157,19 +179,53 @@ def compare_at(series: list[Series], lam: float, what: str, strict: bool) -> Poi
     aligned = align(profiles)
     zones = {lab: liftoff_zones(p) for lab, p in profiles.items()}
     peaks = {lab: peak_compression(p) for lab, p in profiles.items()}
+    arcs = {lab: element_arc(p) for lab, p in profiles.items()}
     pairs = []
     grid = aligned.index.to_numpy()
     for a, b in itertools.combinations([s.label for s in use], 2):
         m = pair_metrics(grid, aligned[a].to_numpy(), aligned[b].to_numpy())
-        pairs.append({"a": a, "b": b, "load_factor": lam, **m, "liftoff_zone_overlap": zone_iou(zones[a], zones[b])})
-    return PointResult(lam, what, [s.label for s in use], profiles, aligned, zones, peaks, pairs, skipped)
+        pairs.append({"a": a, "b": b, "load_factor": lam, **m, "liftoff_zone_overlap": zone_iou(zones[a], zones[b]),
+                      "liftoff_zone_overlap_tol": zone_iou_tol(zones[a], zones[b], max(arcs[a], arcs[b])),
+                      "zone_tolerance_deg": max(arcs[a], arcs[b])})
+    node_peaks, extra = {}, {}
+    for s in use:
+        st = s.state_at(lam)
+        if st is not None and st.rows is not None:
+            node_peaks[s.label] = Q.peak_node(st.rows)
+            extra[s.label] = state_quantities(st.rows, (records or {}).get(s.label), st)
+    return PointResult(lam, what, [s.label for s in use], profiles, aligned, zones, peaks, pairs, skipped,
+                       node_peaks, extra)
 
 
-def compare_series(series: list[Series], load_factors: list[float] | None = None) -> ComparisonResult:
-    """Compare built series at the requested (or default) load factors."""
+def state_quantities(rows, record: SourceResult | None, st) -> dict:
+    """Per-state quantities of one source (definitions in :mod:`deckbridge.quantities`)."""
+    nodes = Q.sigma_n_nodes(rows)
+    out = {"lifted_arc_deg": Q.lifted_arc_deg(rows), **Q.open_tension(rows),
+           "contact_resultant_n": -Q.contact_resultant(rows),
+           "sigma_n_nodes_pa": {"theta_deg": nodes.index.tolist(),
+                                **{c: nodes[c].tolist() for c in ("inner", "mid", "outer")}}}
+    tb = Q.table_rows(rows)
+    r = tb["r"].to_numpy(float)
+    if np.isfinite(r).all() and np.isfinite(tb["force_n"].to_numpy(float)).all() and len(r):
+        q = Q.line_load(rows, 0.5 * (r.min() + r.max()))          # at the mid-wall radius
+        out["line_load_n_per_m"] = {"theta_deg": q.index.tolist(), "q": q.tolist()}
+    wall = None if record is None else record.wall_at(st.step, st.increment, st.load_factor)
+    if wall is not None and len(wall):
+        out["szz_pa"] = {c: wall[c].tolist() for c in ("theta_deg", "szz_inner_pa", "szz_outer_pa",
+                                                       "szz_mean_pa", "szz_bending_pa")}
+        out.update(Q.equilibrium(wall, rows))
+    return out
+
+
+def compare_series(series: list[Series], load_factors: list[float] | None = None,
+                   records: dict[str, SourceResult] | None = None) -> ComparisonResult:
+    """Compare built series at the requested (or default) load factors; ``records``: label -> the
+    source record (its solver summary gives the exact onsets, its wall table sigma_zz)."""
     if not series:
         raise DeckbridgeError("nothing to compare: no source given")
-    liftoff = {s.label: liftoff_load_factor(s) for s in series}
+    records = records or {}
+    ons = {s.label: onsets(s, getattr(records.get(s.label), "summary", None)) for s in series}
+    liftoff = {lab: best(o["first_node"]) for lab, o in ons.items()}
     requested = sorted(set(float(x) for x in np.atleast_1d(load_factors))) if load_factors is not None else []
     if requested:
         pts = [(lam, "requested") for lam in requested]
@@ -177,9 +233,9 @@ def compare_series(series: list[Series], load_factors: list[float] | None = None
     else:
         pts = default_load_factors(series, liftoff)
         strict = False
-    points = [compare_at(series, lam, what, strict) for lam, what in pts]
+    points = [compare_at(series, lam, what, strict, records) for lam, what in pts]
     points = [p for p in points if p.labels]
-    return ComparisonResult(series, points, liftoff)
+    return ComparisonResult(series, points, ons, dict(records))
 
 
 def compare_tables(tables: list, load_factors=None, origins=None, surface: str = "table") -> ComparisonResult:
@@ -197,9 +253,10 @@ def compare_tables(tables: list, load_factors=None, origins=None, surface: str =
     if len(origins) != len(tables):
         raise ValueError("origins must match tables one to one")
     records = [SourceResult.wrap(t, o) for t, o in zip(tables, origins)]
-    result = compare_series(split_tables([r.table for r in records], origins, surface), load_factors)
+    series = split_tables([r.table for r in records], origins, surface)
     by_origin = {}
     for r in records:
         by_origin.setdefault(r.origin, r)
-    result.sources = {s.label: by_origin[s.origin] for s in result.series if s.origin in by_origin}
-    return result
+    if sum(r.origin is None for r in records) > 1:
+        by_origin.pop(None, None)          # several records without origin: no way to tell them apart
+    return compare_series(series, load_factors, {s.label: by_origin[s.origin] for s in series if s.origin in by_origin})

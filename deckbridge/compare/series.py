@@ -1,7 +1,8 @@
 """One source's sigma_N(theta) along the load path, from the tidy table.
 
-A *profile* is sigma_N [Pa] at each azimuth of the table surface at one state: the mean over the
-slave nodes at that azimuth (through the wall), with the flag 'every node there is open'.
+A *profile* is sigma_N [Pa] at each azimuth of the table surface at one state: the through-wall
+value -Sum force / Sum area of the slave nodes at that azimuth (:func:`deckbridge.quantities.sigma_n_wall`),
+with the flag 'every node there is open'. Each state also keeps its rows (node values, areas).
 A *series* is one (source, method): its profiles ordered by load factor lambda, starting with the
 end of step 1 (N only, lambda = 0) and followed by the increments of step 2 (lambda > 0).
 Profiles between two increments are interpolated linearly in lambda.
@@ -17,6 +18,7 @@ import pandas as pd
 
 from ..azimuth import THETA_DECIMALS, snap_deg
 from ..errors import DeckbridgeError
+from ..quantities import sigma_n_wall
 from ..results import ResultsError, conform
 from .profile import LAMBDA_TOL, Profile  # noqa: F401 (LAMBDA_TOL re-exported)
 
@@ -34,6 +36,7 @@ class State:
     increment: int
     profile: Profile
     nodes: pd.DataFrame | None = None
+    rows: pd.DataFrame | None = None
 
 
 @dataclass
@@ -64,6 +67,12 @@ class Series:
         tol = LAMBDA_TOL * max(1.0, abs(lam))
         return lo - tol <= lam <= hi + tol
 
+    def state_at(self, lam: float) -> State | None:
+        """The printed state at load factor ``lam`` (the last one when several), None between states."""
+        tol = LAMBDA_TOL * max(1.0, abs(lam))
+        hit = np.flatnonzero(np.abs(self.load_factors - lam) <= tol)
+        return self.states[int(hit[-1])] if hit.size else None
+
     def at(self, lam: float) -> Profile:
         """Profile at load factor ``lam`` (a state's own, or linear between the two around it)."""
         if not self.covers(lam):
@@ -83,11 +92,12 @@ class Series:
 
 
 def profile_of(rows: pd.DataFrame) -> Profile:
-    """Per-azimuth mean sigma_N and all-open flag of the rows of one state."""
+    """Per-azimuth through-wall sigma_N (area-weighted, :func:`~deckbridge.quantities.sigma_n_wall`) and
+    all-open flag of the rows of one state."""
     th = snap_deg(rows["theta_deg"].to_numpy(float))
-    g = pd.DataFrame({"t": th, "s": rows["sigma_n_pa"].to_numpy(float),
-                      "o": (rows["status"].to_numpy() == "open")}).groupby("t", sort=True)
-    return Profile(g["s"].mean().index.to_numpy(float), g["s"].mean().to_numpy(float), g["o"].all().to_numpy(bool))
+    o = pd.Series(rows["status"].to_numpy() == "open", index=th).groupby(level=0).all().sort_index()
+    s = sigma_n_wall(rows).reindex(o.index)
+    return Profile(o.index.to_numpy(float), s.to_numpy(float), o.to_numpy(bool))
 
 
 def nodes_of(rows: pd.DataFrame) -> pd.DataFrame:
@@ -115,7 +125,7 @@ def series_of(df: pd.DataFrame, label: str, origin: str | None = None, surface: 
     if not s1.empty:
         last = int(s1["increment"].max())
         rows1 = s1[s1["increment"] == last]
-        states.append(State(0.0, 1, last, profile_of(rows1), nodes_of(rows1)))
+        states.append(State(0.0, 1, last, profile_of(rows1), nodes_of(rows1), rows1))
     s2 = rows[rows["step"] == 2]
     by_lam: dict[float, State] = {}
     for inc, g in s2.groupby("increment", sort=True):
@@ -124,10 +134,10 @@ def series_of(df: pd.DataFrame, label: str, origin: str | None = None, surface: 
             raise DeckbridgeError(f"{label}{where}: step 2 increment {inc}: load factor {lam!r} must be >= 0")
         if states and lam <= LAMBDA_TOL:
             continue                      # start of step 2 = end of step 1
-        by_lam[round(lam, 12)] = State(lam, 2, int(inc), profile_of(g), nodes_of(g))
+        by_lam[round(lam, 12)] = State(lam, 2, int(inc), profile_of(g), nodes_of(g), g)
     states += [by_lam[k] for k in sorted(by_lam)]
     theta = np.unique(np.concatenate([s.profile.theta for s in states]))
-    states = [State(s.load_factor, s.step, s.increment, s.profile.resample(theta), s.nodes) for s in states]
+    states = [State(s.load_factor, s.step, s.increment, s.profile.resample(theta), s.nodes, s.rows) for s in states]
     return Series(label, str(rows["source"].iloc[0]), str(rows["method"].iloc[0]), states, origin, theta)
 
 

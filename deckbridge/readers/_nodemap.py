@@ -63,3 +63,16 @@ def locate(nodes: np.ndarray, model: Model, path, surface: str | None = None) ->
 def surface_of(rows: pd.DataFrame) -> np.ndarray:
     """Default surface of located nodes: 'table' where the node is a table slave, else 'stop'."""
     return np.where(rows["table"].to_numpy(), "table", "stop")
+
+
+def slave_areas(model: Model, nodes, surfaces) -> np.ndarray:
+    """Tributary contact area [m^2] of each (deck node id, surface) of ``model``'s mesh; NaN where the
+    node is not a slave of that surface."""
+    mesh = build_mesh(model)
+    out = np.full(len(nodes), np.nan)
+    nodes, surfaces = np.asarray(nodes, np.int64), np.asarray(surfaces).astype(str)
+    for s in mesh.slave_sets:
+        amap = pd.Series(s.area, index=node_ids(s.nodes))
+        rows = surfaces == s.surface
+        out[rows] = amap.reindex(nodes[rows]).to_numpy(float)
+    return out

@@ -34,9 +34,10 @@ from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ._files import read_text
 from ._registry import register
-from ._checks import checked
-from ._nodemap import locate, surface_of
+from ..results import with_forces
 from ..units import scale
+from ._checks import checked
+from ._nodemap import locate, slave_areas, surface_of
 
 _NUM = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[EeDd][-+]?\d+)?"
 _NUM_RE = re.compile(rf"^{_NUM}$")
@@ -182,12 +183,13 @@ def read(path: Path, model=None) -> pd.DataFrame:
     is_open = np.where(word != "", np.isin(word, list(_OPEN_WORDS)),
                        np.where(np.isnan(copen), cpress <= 0.0, (copen > 0.0) & (cpress <= 0.0)))
     lam = np.where(raw["step"].to_numpy() == 1, 0.0, model.steps.lambda_max * raw["fraction"].to_numpy(float))
-    return pd.DataFrame({
+    surface = _surface(raw, located)
+    return with_forces(pd.DataFrame({
         "source": DIALECTS["abaqus"].source, "method": "lagrange",
         "step": raw["step"].to_numpy(), "increment": raw["increment"].to_numpy(),
         "load_factor": lam, "node": raw["node"].to_numpy(),
-        "surface": _surface(raw, located),
+        "surface": surface,
         "theta_deg": located["theta_deg"].to_numpy(), "z": located["z"].to_numpy(), "r": located["r"].to_numpy(),
         "sigma_n_pa": -cpress, "gap_m": copen,
         "status": np.where(is_open, "open", "closed"),
-    })
+    }), slave_areas(model, raw["node"].to_numpy(), surface))    # CPRESS x the mesh's tributary area

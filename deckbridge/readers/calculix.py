@@ -42,6 +42,7 @@ from ..units import scale
 from ._registry import register
 from .ccx_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
 from ._checks import checked
+from ..results import with_forces
 
 SOURCE = DIALECTS["calculix"].source   # "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
@@ -235,11 +236,11 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
             if u is not None:
                 gap[i] = sl.clearance[i] + float(u[:3] @ sl.normal[i])
         counters[step] = counters.get(step, 0) + 1
-        frames.append(pd.DataFrame({
+        frames.append(with_forces(pd.DataFrame({
             "source": SOURCE, "method": method, "step": step, "increment": counters[step],
             "load_factor": 0.0 if step == 1 else lam * (t - (step - 1)), "node": sl.node,
             "surface": sl.surface, "theta_deg": sl.theta, "z": sl.z, "r": sl.r, "sigma_n_pa": sigma,
-            "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open")}))
+            "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open")}), sl.area))
     if not frames:
         raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
     return pd.concat(frames, ignore_index=True)

@@ -33,6 +33,7 @@ from ..mesh import build_mesh
 from ..model import Model
 from ..numbering.nastran import gap_layout
 from ._files import read_text
+from ..results import with_forces
 from ._registry import register
 from .nastran_op2 import contact_map, result_units
 from ._checks import checked
@@ -98,9 +99,9 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     else:
         gap = np.full(len(raw), np.nan)
         lam = np.nan
-    return pd.DataFrame({
+    return with_forces(pd.DataFrame({
         "source": DIALECTS["mystran"].source, "method": "linear", "step": 2, "increment": 1, "load_factor": lam,
         "node": m["node"].to_numpy(np.int64), "surface": m["surface"].to_numpy(),
         "theta_deg": m["theta_deg"].to_numpy(), "z": m["z"].to_numpy(), "r": m["r"].to_numpy(),
         "sigma_n_pa": -force_on_normal / m["area"].to_numpy(), "gap_m": gap, "status": "closed",
-    })
+    }), m["area"].to_numpy(float))

@@ -45,10 +45,11 @@ from ..mesh import build_mesh
 from ..model import Model
 from ..numbering.nastran import gap_layout
 from ..units import Units, scale
+from ..results import with_forces
+from ._checks import checked
 from ._registry import register
 
 _UNITS_LINE = re.compile(r"^\$\s*deckbridge-units:\s*(SI|mm)\s*$")
-from ._checks import checked
 
 GAP_FORCE_COLUMNS = ["element", "subcase", "increment", "time", "table", "force_n", "axial_u_m",
                      "u0_m", "opening_m", "status"]
@@ -257,7 +258,7 @@ def tidy(raw: pd.DataFrame, cmap: pd.DataFrame, path: Path, source: str, method:
     step = raw["subcase"].to_numpy(np.int64)
     frac = _fraction(raw["time"].to_numpy(), step)
     opening = m["u0"].to_numpy() - raw["axial_u_m"].to_numpy()
-    return pd.DataFrame({
+    return with_forces(pd.DataFrame({
         "source": source, "method": method, "step": step,
         "increment": raw["increment"].to_numpy(np.int64),
         "load_factor": np.where(step >= 2, lambda_max * frac, 0.0),
@@ -265,7 +266,7 @@ def tidy(raw: pd.DataFrame, cmap: pd.DataFrame, path: Path, source: str, method:
         "theta_deg": m["theta_deg"].to_numpy(), "z": m["z"].to_numpy(), "r": m["r"].to_numpy(),
         "sigma_n_pa": -raw["force_n"].to_numpy() / m["area"].to_numpy(),
         "gap_m": opening, "status": np.where(opening <= 0.0, "closed", "open"),
-    })
+    }), m["area"].to_numpy(float))
 
 
 def _detect(path: Path) -> bool:

@@ -24,10 +24,11 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
-from ..results import COLUMNS
+from ..results import REQUIRED as COLUMNS
 from ._registry import register
+from ..results import with_forces
 from ._checks import checked
-from ._nodemap import locate, surface_of
+from ._nodemap import locate, slave_areas, surface_of
 
 _STRESS_UNITS = {"pa": 1.0, "n/m2": 1.0, "n/m^2": 1.0, "kpa": 1e3, "mpa": 1e6, "n/mm2": 1e6, "n/mm^2": 1e6,
                  "gpa": 1e9, "bar": 1e5}
@@ -182,8 +183,9 @@ def read(path: Path, model=None) -> pd.DataFrame:
         surface = df[r["surface"][0]].astype(str).str.strip().str.lower().to_numpy()
     source = df[r["source"][0]].astype(str).to_numpy() if "source" in r else "csv"
     method = df[r["method"][0]].astype(str).to_numpy() if "method" in r else path.stem
-    return pd.DataFrame({
+    area = slave_areas(model_used, nodes, surface) if "node" in r else np.full(n, np.nan)
+    return with_forces(pd.DataFrame({
         "source": source, "method": method, "step": step, "increment": inc, "load_factor": lam,
         "node": nodes, "surface": surface, "theta_deg": theta, "z": z, "r": r_,
         "sigma_n_pa": sigma, "gap_m": gap, "status": np.where(is_open, "open", "closed"),
-    })
+    }), area)

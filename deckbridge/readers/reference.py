@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
-from ..results import COLUMNS, ResultsError, SourceResult, conform
+from ..results import REQUIRED as COLUMNS, ResultsError, SourceResult, conform
 from ._registry import register
 from ._checks import checked
 from ._nodemap import locate
@@ -112,8 +112,9 @@ def read_source(path, model=None) -> SourceResult:
             summary = json.loads((folder / "summary.json").read_text())
         except (OSError, ValueError, RecursionError):
             summary = None
+    from ..wall_stress import read_wall
     return SourceResult(table, str(path), summary=summary if isinstance(summary, dict) else None,
-                        **read_globals(path, table["method"].unique()))
+                        wall=read_wall(folder), **read_globals(path, table["method"].unique()))
 
 
 def read_globals(origin, methods) -> dict:

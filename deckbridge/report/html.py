@@ -15,6 +15,8 @@ from importlib.metadata import PackageNotFoundError, version
 
 import jinja2
 
+from .. import quantities as Q
+from ..compare.onsets import describe
 from ..compare.result import ComparisonResult
 
 
@@ -71,7 +73,9 @@ def model_rows(model) -> list[tuple[str, str]]:
 
 
 def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dict | None = None,
-           inputs: dict | None = None, notes: list[str] | None = None, global_png: bytes | None = None) -> str:
+           inputs: dict | None = None, notes: list[str] | None = None, global_png: bytes | None = None,
+           path_pngs: list | None = None, banners: list[str] | None = None, caveats: list[str] | None = None,
+           provenance: dict | None = None) -> str:
     """The report as one HTML string (``figures``: PNG bytes per compared load factor)."""
     glob, inputs = glob or {}, inputs or {}
     points = [_point(pt, png) for pt, png in zip(result.points, figures)]
@@ -79,7 +83,8 @@ def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dic
     for s in result.series:
         lo, hi = s.lf_range
         sources.append([s.label, inputs.get(s.label, s.origin or "–"), str(s.n_theta),
-                        f"{lo:.4g} … {hi:.4g}", str(len(s.states)), fmt(result.liftoff[s.label])])
+                        f"{lo:.4g} … {hi:.4g}", str(len(s.states)), onset_text(result.onsets[s.label]["first_node"]),
+                        onset_text(result.onsets[s.label]["section"])])
     rows = []
     for s in result.series:
         gm = glob.get(s.label) or {}
@@ -95,7 +100,16 @@ def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dic
     return env().get_template("comparison.html.j2").render(
         ver=deckbridge_version(), primary=_point(result.primary, figures[-1]), points=points, sources=sources,
         model_rows=None if model is None else model_rows(model), global_rows=rows, von_mises_pair=pair,
-        global_png=global_png, notes=list(notes or []))
+        global_png=global_png, notes=list(notes or []), path_pngs=list(path_pngs or []),
+        banners=list(banners or []), caveats=list(caveats or []),
+        provenance=[(k, str(v)) for k, v in (provenance or {}).items() if k != "sources"],
+        definitions=[f"{k} [{q.unit}], weighting {q.weighting}: {q.definition}" for k, q in Q.DEFINITIONS.items()])
+
+
+def onset_text(onset: dict) -> str:
+    """The onset as the console prints it, with its azimuth."""
+    s = describe(onset)
+    return s if onset.get("theta_deg") is None else f"{s} at θ = {onset['theta_deg']:.1f}°"
 
 
 def _point(pt, png: bytes) -> dict:
@@ -103,9 +117,28 @@ def _point(pt, png: bytes) -> dict:
     return {"load_factor": pt.load_factor, "what": pt.what, "png": png, "skipped": pt.skipped,
             "sources": source_rows(pt, pt.labels),
             "pairs": [[p["b"] + " − " + p["a"], mpa(p["max_abs_diff_pa"]), f"{p['theta_of_max_diff_deg']:.1f}",
-                       mpa(p["rms_diff_pa"]), f"{p['liftoff_zone_overlap']:.3f}"] for p in pt.pairs]}
+                       mpa(p["rms_diff_pa"]), f"{p['liftoff_zone_overlap']:.3f}",
+                       "no zone" if p["liftoff_zone_overlap_tol"] is None else f"{p['liftoff_zone_overlap_tol']:.3f}"]
+                      for p in pt.pairs]}
 
 
 def source_rows(pt, labels) -> list[list[str]]:
-    """Per source at one point: label, liftoff zones, peak compression [MPa] and its azimuth."""
-    return [[lab, zones_text(pt.zones[lab]), mpa(pt.peaks[lab][0]), f"{pt.peaks[lab][1]:.1f}"] for lab in labels]
+    """Per source at one point: label, liftoff zones, peak compression through the wall and of one node
+    [MPa] with their azimuths, the lifted arc, and the checks that warn."""
+    rows = []
+    for lab in labels:
+        node = pt.node_peaks.get(lab)
+        ex = pt.extra.get(lab, {})
+        checks = []
+        if ex.get("szz_resultant_residual") is not None:
+            checks.append(("WARNING " if ex.get("warn") else "") + f"σzz equilibrium residual {ex['szz_resultant_residual']:.2%}")
+        if ex.get("open_tension_ratio", 0.0) > Q.TENSION_WARN:
+            checks.append(f"WARNING open-gap tension {ex['open_tension_ratio']:.1%} of the peak (kept, not clipped)")
+        rows.append([lab, zones_text(pt.zones[lab]), mpa(pt.peaks[lab][0]), theta_text(pt.peaks[lab][1]),
+                     mpa(None if node is None else node[0]), "–" if node is None else theta_text(node[1]),
+                     fmt(ex.get("lifted_arc_deg"), ".1f"), "; ".join(checks) or "–"])
+    return rows
+
+
+def theta_text(theta) -> str:
+    return "uniform" if theta is None else f"{theta:.1f}"

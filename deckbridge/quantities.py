@@ -1,0 +1,168 @@
+"""Every compared quantity, defined once: one function each, its unit, its weighting, its definition.
+
+The report prints :data:`DEFINITIONS`; the comparator, the console and summary.json call these
+functions and nothing else. Conventions: sigma_N < 0 compression, > 0 tension (open-gap tension of
+a penalty model is kept as sigma_N > 0, never clipped); force_n > 0 compressive; theta [deg] in
+[0, 360); wall ring 0 = inner face.
+
+Equilibrium check (what it compares): the corner-extrapolated base-wall sigma_zz (Gauss points of
+the bottom element row extrapolated to the base corners, averaged over the elements sharing a node,
+trapezoid mean through the wall) against the through-wall contact sigma_N = -Sum force / Sum area.
+Two numbers: ``szz_resultant_residual`` (Sum over azimuths of mean sigma_zz x the azimuth's contact
+area, against the contact resultant Sum sigma_N x area, relative) is the equilibrium check
+and is warned above 1 %; ``szz_local_residual`` (max over theta of |mean sigma_zz - sigma_N| / max
+|sigma_N|) also carries the extrapolation error (5-8 % past liftoff on the default mesh, the lower
+Gauss layer alone ~1.3 %) and is reported, not warned.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from .azimuth import arc_weights, periodic_interp, snap_deg
+
+RESIDUAL_WARN = 0.01          # equilibrium residual warned above this (relative)
+TENSION_WARN = 0.01           # open-gap tension warned above this fraction of the peak compression
+
+
+@dataclass(frozen=True)
+class Quantity:
+    key: str
+    unit: str
+    weighting: str
+    definition: str
+
+
+DEFINITIONS = {q.key: q for q in [
+    Quantity("sigma_n_wall_pa", "Pa", "area (tributary areas of the through-wall nodes)",
+             "contact sigma_N through the wall at one azimuth = -Sum force / Sum area of its table nodes"),
+    Quantity("sigma_n_node_pa", "Pa", "none (one node)",
+             "contact sigma_N of one slave node = -force / its tributary area (inner, mid, outer)"),
+    Quantity("peak_sigma_n_wall_pa", "Pa", "area", "most compressive through-wall sigma_N along the azimuth"),
+    Quantity("peak_sigma_n_node_pa", "Pa", "none", "most compressive sigma_N of any single table node"),
+    Quantity("line_load_n_per_m", "N/m", "arc length at the mid-wall radius",
+             "line load q(theta) = -Sum force at the azimuth / its tributary arc length at the mid-wall radius"),
+    Quantity("szz_inner_pa", "Pa", "none", "wall sigma_zz at the base, inner face (Gauss -> corner, node average)"),
+    Quantity("szz_outer_pa", "Pa", "none", "wall sigma_zz at the base, outer face (Gauss -> corner, node average)"),
+    Quantity("szz_mean_pa", "Pa", "trapezoid over the node radii / thickness", "membrane: through-wall mean sigma_zz at the base"),
+    Quantity("szz_bending_pa", "Pa", "none", "bending: (outer - inner) / 2 of sigma_zz at the base"),
+    Quantity("szz_resultant_residual", "1", "contact area per azimuth",
+             "|Sum mean sigma_zz x area - Sum sigma_N x area| / |Sum sigma_N x area| over the base (equilibrium check)"),
+    Quantity("szz_local_residual", "1", "none", "max over theta |mean sigma_zz - sigma_N wall| / max |sigma_N wall|"),
+    Quantity("open_tension_ratio", "1", "none",
+             "largest sigma_N > 0 of an open node / |peak compression| (penalty open-gap stiffness)"),
+    Quantity("lifted_arc_deg", "deg", "arc weights", "arc of azimuths whose every table node is open"),
+]}
+
+
+def table_rows(rows: pd.DataFrame) -> pd.DataFrame:
+    """The table-surface rows of one state."""
+    return rows[rows["surface"] == "table"] if "surface" in rows else rows
+
+
+def sigma_n_wall(rows: pd.DataFrame) -> pd.Series:
+    """Through-wall contact sigma_N [Pa] per azimuth (index theta_deg, sorted) of one state:
+    -Sum force / Sum area; the unweighted node mean only where a source has no areas (NaN)."""
+    r = table_rows(rows)
+    th = snap_deg(r["theta_deg"].to_numpy(float))
+    a = r["area_m2"].to_numpy(float) if "area_m2" in r else np.full(len(r), np.nan)
+    f = r["force_n"].to_numpy(float) if "force_n" in r else np.full(len(r), np.nan)
+    g = pd.DataFrame({"t": th, "a": a, "f": f, "s": r["sigma_n_pa"].to_numpy(float)}).groupby("t", sort=True)
+    weighted = -g["f"].sum(min_count=1) / g["a"].sum(min_count=1)
+    known = g["a"].apply(lambda x: bool(np.isfinite(x).all()))
+    out = weighted.where(known, g["s"].mean())
+    out.index.name = "theta_deg"
+    return out.astype(float)
+
+
+def sigma_n_nodes(rows: pd.DataFrame) -> pd.DataFrame:
+    """Node sigma_N [Pa] per azimuth: columns inner (ring 0), mid (middle ring when the count is odd,
+    else NaN), outer (last ring); index theta_deg."""
+    r = table_rows(rows)
+    df = pd.DataFrame({"t": snap_deg(r["theta_deg"].to_numpy(float)), "w": r["wall"].to_numpy(np.int64),
+                       "s": r["sigma_n_pa"].to_numpy(float)})
+    piv = df.pivot_table(index="t", columns="w", values="s", aggfunc="mean").sort_index()
+    rings = list(piv.columns)
+    mid = rings[len(rings) // 2] if len(rings) % 2 == 1 and len(rings) > 1 else None
+    out = pd.DataFrame({"inner": piv[rings[0]], "mid": piv[mid] if mid is not None else np.nan,
+                        "outer": piv[rings[-1]]})
+    out.index.name = "theta_deg"
+    return out
+
+
+def peak_node(rows: pd.DataFrame) -> tuple[float, float]:
+    """Most compressive single table node: (sigma_N [Pa], theta [deg])."""
+    r = table_rows(rows)
+    i = int(np.argmin(r["sigma_n_pa"].to_numpy(float)))
+    return float(r["sigma_n_pa"].iloc[i]), float(snap_deg(r["theta_deg"].iloc[i]))
+
+
+def line_load(rows: pd.DataFrame, r_mid: float) -> pd.Series:
+    """q(theta) [N/m] (< 0 compression) = -Sum force at the azimuth / (r_mid x its arc [rad])."""
+    r = table_rows(rows)
+    th = snap_deg(r["theta_deg"].to_numpy(float))
+    f = pd.Series(r["force_n"].to_numpy(float), index=th).groupby(level=0).sum(min_count=1).sort_index()
+    arc = np.radians(arc_weights(f.index.to_numpy(float))) * float(r_mid)
+    out = -f / arc
+    out.index.name = "theta_deg"
+    return out
+
+
+def contact_resultant(rows: pd.DataFrame) -> float:
+    """Sum of the table nodes' sigma_N x area [N] (= -vertical contact resultant on the skirt; < 0
+    when the table pushes up)."""
+    r = table_rows(rows)
+    return float(np.sum(r["sigma_n_pa"].to_numpy(float) * r["area_m2"].to_numpy(float)))
+
+
+def equilibrium(wall_szz: pd.DataFrame, rows: pd.DataFrame) -> dict:
+    """The equilibrium check of one state (see the module doc): {'szz_resultant_residual',
+    'szz_local_residual', 'warn'}. ``wall_szz``: columns theta_deg, szz_mean_pa of that state."""
+    sw = sigma_n_wall(rows)
+    szz = pd.Series(wall_szz["szz_mean_pa"].to_numpy(float), index=snap_deg(wall_szz["theta_deg"].to_numpy(float)))
+    szz = szz.groupby(level=0).mean().reindex(sw.index)
+    r = table_rows(rows)
+    w = pd.Series(r["area_m2"].to_numpy(float), index=snap_deg(r["theta_deg"].to_numpy(float))).groupby(level=0).sum()
+    w = w.reindex(sw.index).to_numpy(float)
+    resultant = contact_resultant(rows)
+    res_glob = abs(float(np.sum(szz.to_numpy() * w)) - resultant) / max(abs(resultant), 1e-300)
+    scale = float(np.max(np.abs(sw.to_numpy()))) or 1.0
+    res_loc = float(np.nanmax(np.abs(szz.to_numpy() - sw.to_numpy()))) / scale
+    return {"szz_resultant_residual": res_glob, "szz_local_residual": res_loc, "warn": res_glob > RESIDUAL_WARN}
+
+
+def open_tension(rows: pd.DataFrame) -> dict:
+    """Open-gap tension of one state: {'max_open_sigma_n_pa', 'open_tension_ratio', 'warn'} (kept, never clipped)."""
+    r = table_rows(rows)
+    s = r["sigma_n_pa"].to_numpy(float)
+    is_open = r["status"].to_numpy() == "open"
+    top = float(s[is_open].max()) if is_open.any() else 0.0
+    top = max(top, 0.0)
+    peak = abs(float(min(s.min(), 0.0))) or 1.0
+    return {"max_open_sigma_n_pa": top, "open_tension_ratio": top / peak, "warn": top / peak > TENSION_WARN}
+
+
+def lifted_arc_deg(rows: pd.DataFrame) -> float:
+    """Arc [deg] of the azimuths whose every table node is open."""
+    r = table_rows(rows)
+    g = pd.Series(r["status"].to_numpy() == "open", index=snap_deg(r["theta_deg"].to_numpy(float)))
+    up = g.groupby(level=0).all().sort_index()
+    return float(np.sum(arc_weights(up.index.to_numpy(float))[up.to_numpy()]))
+
+
+def section_sides(rows: pd.DataFrame, azimuth_deg: float) -> dict:
+    """Through-wall sigma_N [Pa] at the tension side (the load azimuth) and the compression side (+180)."""
+    sw = sigma_n_wall(rows)
+    th = sw.index.to_numpy(float)
+    t, c = periodic_interp(th, sw.to_numpy(), np.array([azimuth_deg % 360.0, (azimuth_deg + 180.0) % 360.0]))
+    return {"tension_side_pa": float(t), "compression_side_pa": float(c)}
+
+
+def beam_theory_sigma(N: float, M_b: float, R: float, t: float, theta_rel_deg) -> np.ndarray:
+    """Closed form sigma [Pa] = -N / (2 pi R t) + M_b cos(theta_rel) / (pi R^2 t), theta_rel from the
+    tension side (full contact, beam theory)."""
+    c = np.cos(np.radians(np.asarray(theta_rel_deg, float)))
+    return -N / (2 * np.pi * R * t) + M_b * c / (np.pi * R * R * t)

@@ -1,0 +1,111 @@
+"""Base-wall sigma_zz per state and the whole-section onset of a reference solve; ccx's from *EL PRINT.
+
+Wall table columns (one row per state and azimuth): step, increment, load_factor, theta_deg,
+szz_inner_pa, szz_outer_pa, szz_mean_pa, szz_bending_pa [Pa], tension > 0 (the definitions of
+:mod:`deckbridge.quantities`). Reference: :func:`reference_solver.stress.reference_base_wall` on the
+bottom element row (Gauss points -> corners, averaged over the row's elements sharing a node);
+CalculiX: ``*EL PRINT`` S of the bottom row (:mod:`deckbridge.readers.ccx_el_stress`), used when the
+deck wrote it (never the ``.frd`` nodal stresses).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+import reference_solver as rs
+from reference_solver.section_onset import section_onset
+from reference_solver.stress import reference_base_wall
+
+from .azimuth import snap_deg
+from .errors import DeckbridgeError
+
+WALL_CSV = "wall_stress.csv"
+WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa", "szz_outer_pa",
+                "szz_mean_pa", "szz_bending_pa"]
+
+
+def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.DataFrame:
+    """Wall table of every state of a reference solution (one recovery solve for all of them)."""
+    U = system.recover(sol.u, sol.coeffs)
+    bottom = np.arange(mesh.n_r * mesh.n_theta)
+    frames = []
+    for i in range(sol.step.size):
+        bw = reference_base_wall(system.problem, U[i], bottom)
+        frames.append(pd.DataFrame({"step": int(sol.step[i]), "increment": int(sol.increment[i]),
+                                    "load_factor": float(sol.load_factor[i]), "theta_deg": snap_deg(bw.theta_deg),
+                                    "szz_inner_pa": bw.inner, "szz_outer_pa": bw.outer,
+                                    "szz_mean_pa": bw.mean, "szz_bending_pa": bw.bending}))
+    return pd.concat(frames, ignore_index=True)[WALL_COLUMNS]
+
+
+def ccx_wall(dat: Path, mesh, lambda_max: float) -> pd.DataFrame | None:
+    """Wall table of a ccx job from its ``.dat`` *EL PRINT S blocks; None when the deck printed none.
+    ccx total time t: step 1 for t <= 1 (lambda 0), else step 2 with lambda = lambda_max (t - 1)."""
+    from .readers.ccx_el_stress import base_wall_table, read_el_stress
+    try:
+        raw = read_el_stress(dat)
+    except DeckbridgeError as exc:
+        if "no '*EL PRINT'" in str(exc) or "cannot read" in str(exc):
+            return None
+        raise
+    t = base_wall_table(raw, mesh)
+    step = np.where(t["time"].to_numpy() <= 1.0 + 1e-12, 1, 2)
+    lam = np.where(step == 1, 0.0, lambda_max * (t["time"].to_numpy() - 1.0))
+    inc = pd.Series(t["time"]).groupby(step).rank(method="dense").to_numpy(np.int64)
+    t = t.assign(step=step, increment=inc, load_factor=lam, theta_deg=snap_deg(t["theta_deg"]))
+    return t[WALL_COLUMNS]
+
+
+def write_wall(folder: Path, table: pd.DataFrame) -> Path:
+    """Write ``folder``/wall_stress.csv atomically (temporary file, then rename)."""
+    folder = Path(folder)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".wall_", suffix=".csv")
+    os.close(fd)
+    table.to_csv(tmp, index=False)
+    os.replace(tmp, folder / WALL_CSV)
+    return folder / WALL_CSV
+
+
+def read_wall(folder) -> pd.DataFrame | None:
+    """wall_stress.csv of a reference folder, None when absent."""
+    if folder is None:
+        return None
+    p = Path(str(folder))
+    p = p / WALL_CSV if p.is_dir() else p.parent / WALL_CSV
+    if not p.is_file():
+        return None
+    df = pd.read_csv(p)
+    return df if set(WALL_COLUMNS) <= set(df.columns) else None
+
+
+def azimuth_groups(system: rs.CondensedSystem, mesh, surface: str = "table") -> tuple[list[np.ndarray], np.ndarray]:
+    """Contact-row indices of ``surface`` grouped by azimuth (the through-wall nodes), and the azimuths [deg]."""
+    rows = np.flatnonzero(system.problem.contact_surface == surface)
+    th = snap_deg(mesh.contact_rows.theta[rows])
+    keys = np.unique(th)
+    return [rows[th == k] for k in keys], keys
+
+
+def reference_section_onset(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> tuple[float | None, float | None]:
+    """Exact whole-section onset (lambda, theta [deg]): every table node of one azimuth open (to 1e-9)."""
+    groups, keys = azimuth_groups(system, mesh)
+    lam, g = section_onset(system, sol, groups, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0})
+    return lam, (None if g is None else float(keys[g]))
+
+
+def with_ccx_wall(table: pd.DataFrame, path, model):
+    """A :class:`~deckbridge.results.SourceResult` of a ccx result ``path`` (file of one job) with its
+    base-wall table when the job's ``.dat`` holds *EL PRINT S and the model is known; else the table."""
+    from .mesh import build_mesh
+    from .results import SourceResult
+    p = Path(str(path))
+    dat = p.with_suffix(".dat")
+    if model is None or p.is_dir() or not dat.is_file():
+        return table
+    wall = ccx_wall(dat, build_mesh(model), model.steps.lambda_max)
+    return table if wall is None else SourceResult(table, str(path), wall=wall)
