@@ -2,9 +2,9 @@
 comparison and report. Layout of the output folder DIR:
 
   DIR/decks/                 every deck of the model
-  DIR/reference_penalty/     contact.csv, summary.json, result.vtu (reference solver, penalty)
+  DIR/reference_penalty/     contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu (penalty)
   DIR/reference_lagrange/    the same with Lagrange multipliers
-  DIR/ccx/                   CalculiX jobs and results (--with-ccx)
+  DIR/ccx/                   CalculiX jobs and results, <job>.pvd + <job>_NNN.vtu (--with-ccx)
   DIR/report.html, sigma_n.png, discrepancy.csv, summary.json   the comparison
 """
 
@@ -19,6 +19,7 @@ from .compare import compare_tables
 from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare
+from .paraview_ccx import write_ccx_series
 from .render import render_all
 from .readers.reference import read_globals
 from .report import write_report
@@ -44,7 +45,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     for method in ("penalty", "lagrange"):
         df, summary, sol = solve_system(model, mesh, system, method, recover=model.outputs.vtu)
         folder = out / f"reference_{method}"
-        write_outputs(folder, model, system, sol, df, summary)
+        write_outputs(folder, model, system, sol, df, summary, mesh)
         lam = summary["liftoff_load_factor"]
         echo(f"reference {method}: liftoff at lambda = "
              + ("none" if lam is None else f"{lam:.4f} (theta {summary['liftoff_theta_deg']:.1f} deg)")
@@ -67,6 +68,8 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
                              progress=lambda line: line.lower().startswith("increment") and echo(f"  ccx {line}"))
             echo(f"ccx: {job.name} finished in {run.seconds:.1f} s")
             tables.append(read(job.with_suffix(".frd"), fmt=calculix.reader, model=model))
+            if model.outputs.vtu:       # ParaView series <job>.pvd + <job>_NNN.vtu
+                write_ccx_series(job, model, ccx_dir)
             origins.append(str(job))
 
     result = compare_tables(tables, origins=origins)

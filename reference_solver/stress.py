@@ -56,16 +56,16 @@ def _jacobian(xyz: np.ndarray, xi: np.ndarray):
     return det, np.linalg.inv(J)
 
 
-def gauss_strain(xyz: np.ndarray, ue: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
-    """Strains (ne, 8, 6) at the Gauss points, engineering shear, Voigt (xx, yy, zz, xy, yz, zx).
+def gauss_strain_operator(xyz: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
+    """Linear map (ne, 8, 6, 24) from element displacements to Gauss-point strains: strains =
+    operator @ ue (:func:`gauss_strain`). Build it once to recover the strains of many states.
 
-    ``xyz`` (ne, 8, 3) corner coordinates [m], ``ue`` (ne, 24) element displacements [m] (u_x, u_y, u_z
-    per node). E [Pa] and nu enter only the incompatible-mode condensation of ``c3d8i``.
+    ``xyz`` (ne, 8, 3) corner coordinates [m]; E [Pa] and nu enter only the incompatible-mode
+    condensation of ``c3d8i`` (alpha = -K_aa^-1 K_au u_e folded into the operator).
     """
     if element not in ELEMENTS:
         raise ValueError(f"element = {element!r}: must be one of {', '.join(ELEMENTS)}")
     xyz = np.asarray(xyz, float)
-    ue = np.asarray(ue, float)
     ne = xyz.shape[0]
     Bu = np.empty((8, ne, 6, 24))
     dets = np.empty((8, ne))
@@ -73,9 +73,8 @@ def gauss_strain(xyz: np.ndarray, ue: np.ndarray, E: float, nu: float, element: 
         det, inv = _jacobian(xyz, xi)
         Bu[g] = strain_operator(inv @ shape_gradients(xi))
         dets[g] = det
-    eps = np.einsum("geij,ej->egi", Bu, ue)
     if element == "c3d8":
-        return eps
+        return Bu.transpose(1, 0, 2, 3)
     det0, inv0 = _jacobian(xyz, np.zeros(3))
     Ba = np.empty((8, ne, 6, 9))
     for g, xi in enumerate(GAUSS):                    # modes P_m = 1 - xi_m^2, dP_m/dxi_i = -2 xi_m delta_im
@@ -83,10 +82,19 @@ def gauss_strain(xyz: np.ndarray, ue: np.ndarray, E: float, nu: float, element: 
         Ba[g] = strain_operator(grad)
     D = elasticity_matrix(E, nu)
     w = dets[:, :, None, None]                        # Gauss weights 1
-    Kaa = np.einsum("geki,kl,gelj->eij", Ba * w, D, Ba)
-    Kau = np.einsum("geki,kl,gelj->eij", Ba * w, D, Bu)
-    alpha = -np.linalg.solve(Kaa, np.einsum("eij,ej->ei", Kau, ue)[..., None])[..., 0]
-    return eps + np.einsum("geij,ej->egi", Ba, alpha)
+    Kaa = np.einsum("geki,kl,gelj->eij", Ba * w, D, Ba, optimize=True)
+    Kau = np.einsum("geki,kl,gelj->eij", Ba * w, D, Bu, optimize=True)
+    A = -np.linalg.solve(Kaa, Kau)                    # (ne, 9, 24): alpha = A u_e
+    return (Bu + np.einsum("geij,ejk->geik", Ba, A, optimize=True)).transpose(1, 0, 2, 3)
+
+
+def gauss_strain(xyz: np.ndarray, ue: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
+    """Strains (ne, 8, 6) at the Gauss points, engineering shear, Voigt (xx, yy, zz, xy, yz, zx).
+
+    ``xyz`` (ne, 8, 3) corner coordinates [m], ``ue`` (ne, 24) element displacements [m] (u_x, u_y, u_z
+    per node). E [Pa] and nu enter only the incompatible-mode condensation of ``c3d8i``.
+    """
+    return np.einsum("egij,ej->egi", gauss_strain_operator(xyz, E, nu, element), np.asarray(ue, float))
 
 
 def condensed_stiffness(xyz: np.ndarray, E: float, nu: float) -> np.ndarray:

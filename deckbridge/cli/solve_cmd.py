@@ -19,7 +19,7 @@ from ._common import main, model_options
 @click.option("--algorithm", type=click.Choice(["active-set", "gauss-seidel"]), default=None,
               help="Lagrange: exact active set (default) or the paper's projected Gauss-Seidel (slow past liftoff).")
 @click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
-              help="Output folder: contact.csv, summary.json, result.vtu (written whole or not at all).")
+              help="Output folder: contact.csv, summary.json, result.vtu, ParaView result.pvd + result_NNN.vtu (written whole or not at all).")
 def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
     """Solve MODEL with the reference solver and write the contact table, a summary and a VTU file."""
     if alpha is not None and k_factor is not None:
