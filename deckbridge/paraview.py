@@ -16,7 +16,7 @@ Point data (SI; 0 off the contact, never NaN there):
   ``stress_nodal_pa`` (n, 6) Gauss-point stresses extrapolated to the corners and averaged over the
   elements sharing the node (an estimate), ``von_mises_nodal_pa``.
 Cell data: ``element_id``; ``bottom_row`` (1 for the element row on the table); ``stress_pa`` (ne, 6)
-  mean of the 8 Gauss-point stresses; ``von_mises_pa``.
+  element volume average by its 2 x 2 x 2 Gauss quadrature; ``von_mises_pa`` of that average.
 Stress tensors: Voigt order (xx, yy, zz, xy, yz, zx) [Pa], tension > 0.
 """
 
@@ -44,7 +44,7 @@ def pseudo_time(step: np.ndarray, load_factor: np.ndarray, lambda_max: float) ->
 
 def state_label(step: int, increment: int, load_factor: float) -> str:
     """The pvd comment before a state's DataSet: 'step S increment I load_factor L'."""
-    return f"step {int(step)} increment {int(increment)} load_factor {float(load_factor)!r}"
+    return f"step {int(step)} increment {int(increment)} load_factor {float(load_factor):.12g}"
 
 
 def mesh_data(mesh: SkirtMesh) -> tuple[dict, dict]:
