@@ -49,11 +49,13 @@ def extrapolation_matrix() -> np.ndarray:
 def _jacobian(xyz: np.ndarray, xi: np.ndarray):
     """det J (ne,) and inverse J^-1 (ne, 3, 3) with J_ij = dx_j / dxi_i at natural point ``xi``."""
     J = np.einsum("ia,eaj->eij", shape_gradients(xi), xyz)
-    det = np.linalg.det(J)
+    a, b, c = J[:, 0], J[:, 1], J[:, 2]
+    adj = np.stack([np.cross(b, c), np.cross(c, a), np.cross(a, b)], axis=-1)   # columns: J adj = det I
+    det = np.einsum("ej,ej->e", a, adj[:, :, 0])
     if np.any(det <= 0):
         bad = int(np.flatnonzero(det <= 0)[0])
         raise ValueError(f"element {bad}: non-positive Jacobian (inverted or degenerate hexahedron)")
-    return det, np.linalg.inv(J)
+    return det, adj / det[:, None, None]
 
 
 def gauss_strain_operator(xyz: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
