@@ -151,24 +151,35 @@ def test_no_series_without_outputs_vtu(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["contact.csv", "summary.json"]
 
 
-@needs_ccx
-def test_ccx_series_lists_every_increment_ccx_printed(tmp_path):
-    """A ccx penalty job on a 16 x 4 x 1 mesh: the pvd lists every converged increment of the .sta (ccx's
-    own list), each VTU has the reader's sigma_N / gap / status at the slaves and ccx's displacement, and
-    the table forces balance N (to 1e-6: ccx prints 7 digits)."""
-    from deckbridge.external.ccx_run import run
-    from deckbridge.paraview_ccx import write_ccx_series
-    from deckbridge.render import calculix
+@pytest.fixture(scope="module")
+def ccx_job(tmp_path_factory):
+    """``deckbridge run --with-ccx`` on a 16 x 4 x 1 mesh (both ccx decks, past liftoff at lambda = 1)."""
+    from deckbridge.job import run_job
 
     model = load(None, SMALL)
-    mesh = build_mesh(model)
-    deck = next(p for p in calculix.write(model, mesh, tmp_path) if p.stem.endswith("penalty"))
-    run(deck, timeout_s=120)
-    paths = write_ccx_series(deck, model, tmp_path / "pv")
-    assert paths[0].name == f"{deck.stem}.pvd"
-    sta = [ln.split() for ln in deck.with_suffix(".sta").read_text().splitlines()]
+    out = tmp_path_factory.mktemp("job")
+    run_job(model, out, with_ccx=True, echo=lambda s: None)
+    return model, build_mesh(model), out
+
+
+@needs_ccx
+def test_run_writes_a_series_per_reference_method(ccx_job):
+    model, mesh, out = ccx_job
+    for method in ("penalty", "lagrange"):
+        entries = read_pvd(out / f"reference_{method}" / "result.pvd")
+        assert len(entries) == model.steps.increments + 2 and all(f.is_file() for _, f, _ in entries)
+
+
+@needs_ccx
+@pytest.mark.parametrize("deck", ["JAR_ccx_penalty", "JAR_ccx_lagrange"])
+def test_ccx_series_lists_every_increment_ccx_printed(ccx_job, deck):
+    """The pvd of each ccx job lists every converged increment of its .sta (ccx's own list); each VTU has
+    the reader's sigma_N / gap / status at the slaves and ccx's displacement; the table forces balance N
+    (to 1e-6: ccx prints 7 digits)."""
+    model, mesh, out = ccx_job
+    sta = [ln.split() for ln in (out / "ccx" / f"{deck}.sta").read_text().splitlines()]
     printed = [(int(f[0]), int(f[1]), float(f[4])) for f in sta if len(f) == 7 and f[0].isdigit()]
-    entries = read_pvd(paths[0])
+    entries = read_pvd(out / "ccx" / f"{deck}.pvd")
     assert len(entries) == len(printed) == 1 + model.steps.increments
     for (t, f, label), (step, inc, total) in zip(entries, printed):
         s, i, lf = re.fullmatch(r"step (\d+) increment (\d+) load_factor (\S+)", label).groups()
