@@ -199,3 +199,28 @@ def test_ccx_series_lists_every_increment_ccx_printed(ccx_job, deck):
     # past liftoff at lambda = 1 the tension side is open and the compression side closed
     last = meshio.read(entries[-1][1]).point_data["table_status"][mesh.table.nodes]
     assert 0 in last and 1 in last
+
+
+@needs_ccx
+def test_ccx_series_carries_frd_stress_when_the_deck_asks(tmp_path):
+    """With ``*EL FILE S`` added to the penalty deck, the .frd's nodal stresses reach the VTU in Voigt
+    order: at step 1 (N alone) sigma_zz at mid-height is the membrane stress -N / (layer volume / h)
+    within 1 %, and the other components are below 1e-3 of it."""
+    from deckbridge.external.ccx_run import run
+    from deckbridge.paraview_ccx import write_ccx_series
+    from deckbridge.render import calculix
+
+    model = load(None, SMALL)
+    mesh = build_mesh(model)
+    deck = next(p for p in calculix.write(model, mesh, tmp_path) if p.stem.endswith("penalty"))
+    text = deck.read_text()
+    assert text.count("*NODE FILE\n") == 2
+    deck.write_text(text.replace("*NODE FILE\n", "*EL FILE\nS\n*NODE FILE\n"))
+    run(deck, timeout_s=120)
+    paths = write_ccx_series(deck, model, tmp_path / "pv")
+    s = meshio.read(paths[1]).point_data["ccx_stress_nodal_pa"]
+    mid = np.flatnonzero(np.isclose(mesh.nodes[:, 2], model.geometry.height / 2))
+    h = model.geometry.height / mesh.n_z
+    membrane = -model.loads.N / (hex_volumes(mesh.nodes[mesh.hexes]).sum() / mesh.n_z / h)
+    np.testing.assert_allclose(s[mid, 2], membrane, rtol=0.01)
+    assert np.abs(s[mid][:, [0, 1, 3, 4, 5]]).max() < 1e-3 * abs(membrane)
