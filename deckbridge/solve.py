@@ -3,8 +3,9 @@
 ``solve_path`` is the one call of the reference solver's load path (``solve``, ``run``, ``sweep`` and
 ``liftoff`` all go through it); ``solve_model`` returns the contact table (schema of :mod:`deckbridge.results`, source 'reference')
 and a summary dict; ``write_outputs`` writes DIR/contact.csv, DIR/summary.json, DIR/result.vtu and the
-ParaView series DIR/result.pvd + DIR/result_NNN.vtu atomically. ``build_problem`` and ``condense_model`` expose the translation and the reusable condensed
-system (factor once, then sweep methods and penalty factors with ``solve_system``).
+ParaView series DIR/result.pvd + DIR/result_NNN.vtu atomically. ``build_problem`` and ``condense_model``
+expose the translation and the reusable condensed system (factor once, then sweep methods and penalty
+factors with ``solve_system``).
 Sign conventions: sigma_n_pa < 0 compression, gap_m > 0 open; theta in degrees CCW from +x.
 """
 
@@ -230,7 +231,8 @@ def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, 
         if model.outputs.vtu and sol.fields:
             meshio.write(stage / "result.vtu", result_mesh(system.problem, sol))
             names.append("result.vtu")
-            names += [f.name for f in write_reference_series(stage, model, mesh or build_mesh(model), system, sol)]
+            series = write_reference_series(stage, model, mesh or build_mesh(model), system, sol)
+            names += [f.name for f in series]
     return [Path(outdir) / n for n in names]
 
 
