@@ -2,9 +2,10 @@
 comparison and report. Layout of the output folder DIR:
 
   DIR/decks/                 every deck of the model
-  DIR/reference_penalty/     contact.csv, summary.json, result.vtu, wall_stress.csv (reference solver, penalty)
+  DIR/reference_penalty/     contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu, wall_stress.csv
+                             (reference solver, penalty)
   DIR/reference_lagrange/    the same with Lagrange multipliers
-  DIR/ccx/                   CalculiX jobs and results (--with-ccx)
+  DIR/ccx/                   CalculiX jobs and results, <job>.pvd + <job>_NNN.vtu (--with-ccx)
   DIR/report.html, sigma_n.png, discrepancy.csv, summary.json   the comparison
 """
 
@@ -20,6 +21,7 @@ from .compare.onsets import describe
 from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare
+from .paraview_ccx import write_ccx_series
 from .render import render_all
 from .readers.reference import read_globals
 from .report import write_report
@@ -51,7 +53,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
         lam_s, th_s = reference_section_onset(system, mesh, sol)
         summary["section_liftoff_load_factor"], summary["section_liftoff_theta_deg"] = lam_s, th_s
         summary["caveats"] = reference_caveats(model, mesh, system, sol)
-        write_outputs(folder, model, system, sol, df, summary)
+        write_outputs(folder, model, system, sol, df, summary, mesh)
         wall = reference_wall(system, mesh, sol)
         write_wall(folder, wall)
         tables.append(SourceResult(df, str(folder), summary=summary, wall=wall, **read_globals(folder, [method])))
@@ -74,6 +76,8 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
             wall = ccx_wall(job.with_suffix(".dat"), mesh, model.steps.lambda_max)
             tables.append(SourceResult(read(job.with_suffix(".frd"), fmt=calculix.reader, model=model), str(job),
                                        wall=wall))
+            if model.outputs.vtu:       # ParaView series <job>.pvd + <job>_NNN.vtu
+                write_ccx_series(job, model, ccx_dir)
             origins.append(str(job))
 
     result = compare_tables(tables, origins=origins)

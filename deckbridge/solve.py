@@ -2,9 +2,10 @@
 
 ``solve_path`` is the one call of the reference solver's load path (``solve``, ``run``, ``sweep`` and
 ``liftoff`` all go through it); ``solve_model`` returns the contact table (schema of :mod:`deckbridge.results`, source 'reference')
-and a summary dict; ``write_outputs`` writes DIR/contact.csv, DIR/summary.json and DIR/result.vtu
-atomically. ``build_problem`` and ``condense_model`` expose the translation and the reusable condensed
-system (factor once, then sweep methods and penalty factors with ``solve_system``).
+and a summary dict; ``write_outputs`` writes DIR/contact.csv, DIR/summary.json, DIR/result.vtu and the
+ParaView series DIR/result.pvd + DIR/result_NNN.vtu atomically. ``build_problem`` and ``condense_model``
+expose the translation and the reusable condensed system (factor once, then sweep methods and penalty
+factors with ``solve_system``).
 Sign conventions: sigma_n_pa < 0 compression, gap_m > 0 open; theta in degrees CCW from +x.
 """
 
@@ -26,6 +27,7 @@ from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
 from .model import Model
 from .outdir import staged
+from .paraview import write_reference_series
 from .results import conform, with_forces
 
 SOURCE = "reference"
@@ -222,8 +224,9 @@ def result_mesh(p: rs.Problem, sol: rs.Solution):
 
 
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
-                  df: pd.DataFrame, summary: dict) -> list[Path]:
-    """Write contact.csv, summary.json and (outputs.vtu) result.vtu into ``outdir`` atomically."""
+                  df: pd.DataFrame, summary: dict, mesh: SkirtMesh | None = None) -> list[Path]:
+    """Write contact.csv, summary.json and (outputs.vtu) result.vtu plus the ParaView series result.pvd,
+    result_NNN.vtu (one per increment, :mod:`deckbridge.paraview`) into ``outdir`` atomically."""
     import meshio
     names = ["contact.csv", "summary.json"]
     with staged(outdir) as stage:
@@ -232,6 +235,8 @@ def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, 
         if model.outputs.vtu and sol.fields:
             meshio.write(stage / "result.vtu", result_mesh(system.problem, sol))
             names.append("result.vtu")
+            series = write_reference_series(stage, model, mesh or build_mesh(model), system, sol)
+            names += [f.name for f in series]
     return [Path(outdir) / n for n in names]
 
 
@@ -243,4 +248,4 @@ def run_solve(model: Model, method: str, outdir: str | Path, k_factor: float = 1
     df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
                                     on_increment, recover=model.outputs.vtu)
     summary["wall_time_s"] = time.perf_counter() - t0
-    return write_outputs(outdir, model, system, sol, df, summary), summary
+    return write_outputs(outdir, model, system, sol, df, summary, mesh), summary

@@ -49,11 +49,45 @@ def extrapolation_matrix() -> np.ndarray:
 def _jacobian(xyz: np.ndarray, xi: np.ndarray):
     """det J (ne,) and inverse J^-1 (ne, 3, 3) with J_ij = dx_j / dxi_i at natural point ``xi``."""
     J = np.einsum("ia,eaj->eij", shape_gradients(xi), xyz)
-    det = np.linalg.det(J)
+    a, b, c = J[:, 0], J[:, 1], J[:, 2]
+    adj = np.stack([np.cross(b, c), np.cross(c, a), np.cross(a, b)], axis=-1)   # columns: J adj = det I
+    det = np.einsum("ej,ej->e", a, adj[:, :, 0])
     if np.any(det <= 0):
         bad = int(np.flatnonzero(det <= 0)[0])
         raise ValueError(f"element {bad}: non-positive Jacobian (inverted or degenerate hexahedron)")
-    return det, np.linalg.inv(J)
+    return det, adj / det[:, None, None]
+
+
+def gauss_strain_operator(xyz: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
+    """Linear map (ne, 8, 6, 24) from element displacements to Gauss-point strains: strains =
+    operator @ ue (:func:`gauss_strain`). Build it once to recover the strains of many states.
+
+    ``xyz`` (ne, 8, 3) corner coordinates [m]; E [Pa] and nu enter only the incompatible-mode
+    condensation of ``c3d8i`` (alpha = -K_aa^-1 K_au u_e folded into the operator).
+    """
+    if element not in ELEMENTS:
+        raise ValueError(f"element = {element!r}: must be one of {', '.join(ELEMENTS)}")
+    xyz = np.asarray(xyz, float)
+    ne = xyz.shape[0]
+    Bu = np.empty((8, ne, 6, 24))
+    dets = np.empty((8, ne))
+    for g, xi in enumerate(GAUSS):
+        det, inv = _jacobian(xyz, xi)
+        Bu[g] = strain_operator(inv @ shape_gradients(xi))
+        dets[g] = det
+    if element == "c3d8":
+        return Bu.transpose(1, 0, 2, 3)
+    det0, inv0 = _jacobian(xyz, np.zeros(3))
+    Ba = np.empty((8, ne, 6, 9))
+    for g, xi in enumerate(GAUSS):                    # modes P_m = 1 - xi_m^2, dP_m/dxi_i = -2 xi_m delta_im
+        grad = (inv0 @ np.diag(-2.0 * xi)) * (det0 / dets[g])[:, None, None]
+        Ba[g] = strain_operator(grad)
+    D = elasticity_matrix(E, nu)
+    w = dets[:, :, None, None]                        # Gauss weights 1
+    Kaa = np.einsum("geki,kl,gelj->eij", Ba * w, D, Ba, optimize=True)
+    Kau = np.einsum("geki,kl,gelj->eij", Ba * w, D, Bu, optimize=True)
+    A = -np.linalg.solve(Kaa, Kau)                    # (ne, 9, 24): alpha = A u_e
+    return (Bu + np.einsum("geij,ejk->geik", Ba, A, optimize=True)).transpose(1, 0, 2, 3)
 
 
 def gauss_strain(xyz: np.ndarray, ue: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
@@ -62,31 +96,7 @@ def gauss_strain(xyz: np.ndarray, ue: np.ndarray, E: float, nu: float, element: 
     ``xyz`` (ne, 8, 3) corner coordinates [m], ``ue`` (ne, 24) element displacements [m] (u_x, u_y, u_z
     per node). E [Pa] and nu enter only the incompatible-mode condensation of ``c3d8i``.
     """
-    if element not in ELEMENTS:
-        raise ValueError(f"element = {element!r}: must be one of {', '.join(ELEMENTS)}")
-    xyz = np.asarray(xyz, float)
-    ue = np.asarray(ue, float)
-    ne = xyz.shape[0]
-    Bu = np.empty((8, ne, 6, 24))
-    dets = np.empty((8, ne))
-    for g, xi in enumerate(GAUSS):
-        det, inv = _jacobian(xyz, xi)
-        Bu[g] = strain_operator(inv @ shape_gradients(xi))
-        dets[g] = det
-    eps = np.einsum("geij,ej->egi", Bu, ue)
-    if element == "c3d8":
-        return eps
-    det0, inv0 = _jacobian(xyz, np.zeros(3))
-    Ba = np.empty((8, ne, 6, 9))
-    for g, xi in enumerate(GAUSS):                    # modes P_m = 1 - xi_m^2, dP_m/dxi_i = -2 xi_m delta_im
-        grad = (inv0 @ np.diag(-2.0 * xi)) * (det0 / dets[g])[:, None, None]
-        Ba[g] = strain_operator(grad)
-    D = elasticity_matrix(E, nu)
-    w = dets[:, :, None, None]                        # Gauss weights 1
-    Kaa = np.einsum("geki,kl,gelj->eij", Ba * w, D, Ba)
-    Kau = np.einsum("geki,kl,gelj->eij", Ba * w, D, Bu)
-    alpha = -np.linalg.solve(Kaa, np.einsum("eij,ej->ei", Kau, ue)[..., None])[..., 0]
-    return eps + np.einsum("geij,ej->egi", Ba, alpha)
+    return np.einsum("egij,ej->egi", gauss_strain_operator(xyz, E, nu, element), np.asarray(ue, float))
 
 
 def condensed_stiffness(xyz: np.ndarray, E: float, nu: float) -> np.ndarray:

@@ -19,7 +19,8 @@ from ._common import main, model_options
 @click.option("--algorithm", type=click.Choice(["active-set", "gauss-seidel"]), default=None,
               help="Lagrange: exact active set (default) or the paper's projected Gauss-Seidel (slow past liftoff).")
 @click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
-              help="Output folder: contact.csv, summary.json, result.vtu (written whole or not at all).")
+              help="Output folder: contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu "
+                   "(ParaView series, one VTU per increment); written whole or not at all.")
 def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
     """Solve MODEL with the reference solver and write the contact table, a summary and a VTU file."""
     if alpha is not None and k_factor is not None:
@@ -34,8 +35,10 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
             bar.set_postfix_str(f"step {step} lambda {lam:.3g}")
             bar.update(1)
         paths, summary = run_solve(model, method, outdir, k_factor, alpha, algorithm, on_increment=progress)
+    series = [p for p in paths if p.suffix == ".vtu" and p.name != "result.vtu"]   # listed in result.pvd
     for p in paths:
-        click.echo(f"wrote {p}")
+        if p not in series:
+            click.echo(f"wrote {p}" + (f" (+ {len(series)} VTUs, one per increment)" if p.suffix == ".pvd" else ""))
     lf = summary["liftoff_load_factor"]
     click.echo(f"{method}: liftoff " + ("none" if lf is None else
                f"at load factor {lf:.4f}, theta {summary['liftoff_theta_deg']:.1f} deg")
