@@ -13,6 +13,8 @@ command -v ccx >/dev/null 2>&1 || need_apt+=(calculix-ccx)
 [ -e /usr/include/suitesparse/cholmod.h ] || need_apt+=(libsuitesparse-dev)
 dpkg -s libopenblas0-pthread >/dev/null 2>&1 || need_apt+=(libopenblas0-pthread)
 command -v chromium >/dev/null 2>&1 || need_apt+=(chromium)
+# the gmsh wheel (test extra: an independent mesh generator for the import tests) links these X/GL libraries
+ldconfig -p 2>/dev/null | grep -q 'libGLU\.so\.1' || need_apt+=(libglu1-mesa libxcursor1 libxft2 libxinerama1)
 if [ ${#need_apt[@]} -gt 0 ]; then
   echo "bootstrap: apt-get install ${need_apt[*]}" >&2
   sudo_=""; [ "$(id -u)" -eq 0 ] || sudo_="sudo"
