@@ -290,7 +290,7 @@ def write_outputs(outdir, model, summary: dict, results: list[VariantResult], ru
         from ..report.sweep_report import render_sweep
         t = time.perf_counter()
         mapper = None if client is None else (lambda fn, jobs: client.gather(client.map(fn, jobs, pure=False)))
-        html = render_sweep(summary, results, model, mapper=mapper)
+        html = render_sweep(summary, results, model, mapper=mapper, quantities=quantities)
         run["timings_s"]["report"] = time.perf_counter() - t
     with staged(outdir) as stage:
         (stage / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
