@@ -111,7 +111,7 @@ def test_lagrange_liftoff_depends_on_alpha_only_when_k_tangent_follows(tmp_path)
             (tmp_path / f"{kt}_{alpha}").mkdir()
             abaqus.write(m, build_mesh(m), tmp_path / f"{kt}_{alpha}")
     assert lam["2e8", 0.01] == lam["2e8", 10.0]
-    assert abs(lam["follow", 0.01] - lam["follow", 10.0]) > 5e-3          # measured 0.525 vs 0.540
+    assert abs(lam["follow", 0.01] - lam["follow", 10.0]) > 5e-3          # measured 0.406 vs 0.578
     def cards(folder):       # the deck without its '**' comment lines (those name alpha)
         (deck,) = (tmp_path / folder).glob("*lagrange*.inp")
         return [ln for ln in deck.read_text().splitlines() if not ln.startswith("**")]
