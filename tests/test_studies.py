@@ -250,6 +250,11 @@ def test_sweep_command_on_a_local_dask_cluster_matches_the_in_process_sweep(tmp_
     (["--mesh", "n_foo=1,2"], "unknown mesh key 'n_foo'"),
     (["--mesh", "n_theta=4"], "mesh.n_theta"),
     (["--mesh", "n_theta=1x"], "--mesh"),
+    (["--grid", "contact.penalty.foo=1,2"], "contact.penalty.foo"),
+    (["--grid", "contact.penalty.open_ratio=1e-3,2"], "contact.penalty.open_ratio"),
+    (["--grid", "mesh.n_theta=24,36"], "--mesh"),
+    (["--grid", "contact.penalty.alpha"], "--grid"),
+    (["--grid", "contact.penalty.alpha=" + ",".join(["1"] * 201)], "--grid"),
     (["--tol", "0"], "--tol"),
     (["--workers", "0"], "--workers"),
 ])
