@@ -1,5 +1,7 @@
 """On-disk store of finished cases: ``DIR/cases/<case_id>.csv`` (the tidy contact table) and
-``DIR/cases/<case_id>.json`` (its spec, summary and provenance), each written atomically.
+``DIR/cases/<case_id>.json`` (its spec, summary and provenance), each written atomically; with field
+recovery also ``DIR/cases/<case_id>.wall.csv`` (base-wall sigma_zz per state and azimuth,
+:mod:`deckbridge.wall_stress`), whose sha256 the JSON names too.
 
 The JSON is written last and names the table's row count and sha256, so a case counts as done
 only when both files are whole and match the case's spec; anything else is recomputed. A case

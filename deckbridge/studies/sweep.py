@@ -14,6 +14,13 @@ mesh (:mod:`.metrics`) and writes, atomically:
   DIR/run.json       this run only: cases computed / reused / failed, timings, executor
   DIR/cases/         the stored cases (see :mod:`.store`)
 
+Cases are grouped by condense key (:attr:`.cases.MeshVariant.condense_key`): grid points differing only
+in the penalty rule, the open ratio or the spring stiffness share one condensation, each case re-binding
+its own contact and spring stiffness on it (:func:`.tasks.solve_case`). With k_t following alpha the
+penalty springs scale with the k-factor (:mod:`deckbridge.tangent_springs`); the Lagrange reference keeps
+those of the model's alpha. Base-wall sigma_zz needs the sparse factor: in process and with strategy
+'mesh' it is recovered, with 'split' (condensation moved to other workers) only contact sigma_N is judged.
+
 Execution: ``client=None`` runs in this process; a ``dask.distributed.Client`` runs the cases on
 its cluster. Strategy ``'split'`` (default) submits one condensation task per mesh and one task per
 case depending on it, so the cases of a mesh spread over the workers; ``'mesh'`` submits one task per
