@@ -176,8 +176,8 @@ class Penalty:
 
     ``k_tangent``: the tangential stiffness k_t per table node [N/m]. ``null`` (or ``follow``, stored
     as null) = k_t follows k_n: k_t = 1.0 * k_c of that node (ratio 1, the paper's eq. 3 with the
-    same alpha), and with ``tangential: friction`` it also scales with the solver's --k-factor /
-    --alpha like k_n. A number is a fixed k_t [N/m], never scaled. With ``tangential: springs`` k_t is
+    same alpha), and it scales with the penalty solve's --k-factor / --alpha like k_n, with springs
+    (deckbridge.tangent_springs) and with friction alike. A number is a fixed k_t [N/m], never scaled. With ``tangential: springs`` k_t is
     the stiffness of the circumferential spring; with ``friction`` the stick slope of Coulomb friction.
     """
     alpha: float = 0.1

@@ -29,6 +29,7 @@ from .model import Model
 from .outdir import staged
 from .paraview import write_reference_series
 from .results import conform, with_forces
+from .tangent_springs import follow_springs
 
 SOURCE = "reference"
 
@@ -90,6 +91,7 @@ def solve_path(model: Model, system: rs.CondensedSystem, method: str, k_factor: 
     ``liftoff_tol`` (relative to lambda_max; default the solver's). ``k_factor`` is the final penalty
     factor (see :func:`penalty_factor`); ``on_increment(step, increment, lambda)`` reports progress."""
     kw = {} if liftoff_tol is None else {"liftoff_tol": liftoff_tol}
+    system = follow_springs(system, method, k_factor)     # k_t = k_factor x k_c when k_t follows k_n
     try:
         return rs.solve_path(system, method, k_factor, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
                              lambda_max=model.steps.lambda_max if lambda_max is None else lambda_max,
@@ -106,6 +108,7 @@ def solve_system(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, meth
     """Run the load path of ``model`` on an existing condensed system; (table, summary, solution)."""
     t0 = time.perf_counter()
     kf = penalty_factor(model, k_factor, alpha)
+    system = follow_springs(system, method, kf)
     sol = solve_path(model, system, method, kf, algorithm=algorithm, on_increment=on_increment, recover=recover)
     df = contact_table(system.problem, mesh, sol)
     summary = make_summary(model, mesh, system, sol, df, kf)
@@ -245,6 +248,7 @@ def run_solve(model: Model, method: str, outdir: str | Path, k_factor: float = 1
               on_increment=None) -> tuple[list[Path], dict]:
     """The ``deckbridge solve`` job: solve and write; returns (written paths, summary)."""
     mesh, system, t0 = condense_timed(model, k_factor, alpha)
+    system = follow_springs(system, method, penalty_factor(model, k_factor, alpha))
     df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
                                     on_increment, recover=model.outputs.vtu)
     summary["wall_time_s"] = time.perf_counter() - t0

@@ -13,6 +13,7 @@ from click.testing import CliRunner
 import reference_solver as rs
 from deckbridge.cli import main
 from deckbridge.model import load
+from deckbridge.solve import solve_path
 from deckbridge.report.sweep_report import FIGURE_BELOW
 from deckbridge.solve import condense_model
 from deckbridge.studies import CaseStore, critical_load, run_sweep
@@ -104,8 +105,10 @@ def _open_ratio(system, ratio):
 
 
 def test_sweep_converges_monotonically_to_lagrange_and_measures_what_the_solver_gives(tmp_path):
+    # a fixed circumferential restraint (about k_c of this mesh): with k_tangent following alpha the
+    # penalty springs scale with k while Lagrange's stay at k-factor 1, another experiment
     ks = [0.01, 0.1, 1, 10, 100, 1000, 10000]
-    model = load(None, TINY)
+    model = load(None, TINY + ["contact.penalty.k_tangent=2e8"])
     out = run_sweep(model, ks, tmp_path / "s", open_stiffness="fixed", progress=False, report=False)
     m = out["summary"]["meshes"][0]
     rel = [d["max_rel_diff"] for d in m["penalty"]]
@@ -228,7 +231,13 @@ def test_sweep_command_on_a_local_dask_cluster_matches_the_in_process_sweep(tmp_
     summary = json.loads((out / "summary.json").read_text())
     drawn = sum(any(d["by_load_factor"][j]["rel_diff"] > FIGURE_BELOW * summary["tol"] for d in m["penalty"])
                 for m in summary["meshes"] for j in range(len(m["compared_load_factors"])))
-    assert 2 <= drawn <= 6 and html.count("data:image/png;base64,") == 1 + drawn   # metrics + sigma_N figures
+    n_claims = len(summary["claims"])                                   # one claims figure per variant
+    assert 2 <= drawn <= 6 and html.count("data:image/png;base64,") == 1 + drawn + n_claims
+    # split strategy: no field recovery on the workers, so only contact sigma_N is judged, as in process
+    for a, b in zip(summary["claims"], ref["summary"]["claims"]):
+        assert set(a["claim2"]) == {"sigma_n_wall_pa"} and "szz_inner_pa" in b["claim2"]
+        assert a["claim2"]["sigma_n_wall_pa"]["peak_abs_pa"] == pytest.approx(
+            b["claim2"]["sigma_n_wall_pa"]["peak_abs_pa"], rel=1e-7)
     csv = pd.read_csv(out / "sweep.csv")
     assert len(csv) == 2 * 3 * 4 and set(csv["method"]) == {"lagrange", "penalty"}
     assert "recommended k-factor: " in res.output
@@ -241,6 +250,11 @@ def test_sweep_command_on_a_local_dask_cluster_matches_the_in_process_sweep(tmp_
     (["--mesh", "n_foo=1,2"], "unknown mesh key 'n_foo'"),
     (["--mesh", "n_theta=4"], "mesh.n_theta"),
     (["--mesh", "n_theta=1x"], "--mesh"),
+    (["--grid", "contact.penalty.foo=1,2"], "contact.penalty.foo"),
+    (["--grid", "contact.penalty.open_ratio=1e-3,2"], "contact.penalty.open_ratio"),
+    (["--grid", "mesh.n_theta=24,36"], "--mesh"),
+    (["--grid", "contact.penalty.alpha"], "--grid"),
+    (["--grid", "contact.penalty.alpha=" + ",".join(["1"] * 201)], "--grid"),
     (["--tol", "0"], "--tol"),
     (["--workers", "0"], "--workers"),
 ])
@@ -260,3 +274,43 @@ def test_liftoff_bad_input_is_one_line(tmp_path, args, needle):
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and needle in lines[0], res.stderr
     assert not (tmp_path / "never").exists()
+
+
+GRID = [{"contact.penalty.open_ratio": 1e-12}, {"contact.penalty.open_ratio": 1e-3}]
+
+
+def test_killed_grid_sweep_resumes_and_grid_points_share_one_condensation(tmp_path):
+    """Two open ratios (a solve-time key): one condensation serves both; a killed run resumes."""
+    model = load(None, TINY)
+    ref = run_sweep(model, KS, tmp_path / "ref", grid=GRID, progress=False, report=False)
+    assert len(ref["run"]["computed"]) == 8
+    variants = mesh_variants(model, None, GRID)
+    assert len({v.condense_key for v in variants}) == 1 and len({v.key for v in variants}) == 2
+
+    class Killed(Exception):
+        pass
+
+    seen = []
+
+    def kill_after_five(case):
+        seen.append(case.case_id)
+        if len(seen) == 5:
+            raise Killed
+
+    out = tmp_path / "sweep"
+    with pytest.raises(Killed):
+        run_sweep(model, KS, out, grid=GRID, progress=False, report=False, on_case_stored=kill_after_five)
+    again = run_sweep(model, KS, out, grid=GRID, progress=False, report=False)
+    assert sorted(again["run"]["reused"]) == sorted(seen) and len(again["run"]["computed"]) == 3
+    for name in ("summary.json", "sweep.csv", "quantities.csv"):
+        assert (out / name).read_bytes() == (tmp_path / "ref" / name).read_bytes(), name
+    # a shared condensation gives what a condensation of each grid point's own model gives
+    c = next(c for c in sweep_cases(variants, KS) if c.k_factor == 10.0 and c.mesh is variants[1])
+    _, system = condense_model(c.mesh.model)
+    direct = solve_path(c.mesh.model, system, "penalty", 10.0, recover=False)     # springs follow k too
+    stored = CaseStore(out).table(c)
+    assert np.allclose(stored["sigma_n_pa"].to_numpy().reshape(direct.sigma_n.shape), direct.sigma_n,
+                       rtol=1e-9, atol=1e-9 * np.abs(direct.sigma_n).max())
+    q = pd.read_csv(out / "quantities.csv")
+    assert set(q["contact.penalty.open_ratio"]) == {1e-12, 1e-3}
+    assert set(q["quantity"]) == {"sigma_n_wall_pa", "szz_inner_pa", "szz_outer_pa", "szz_mean_pa"}

@@ -11,7 +11,7 @@ import click
 from .. import limits
 from ..errors import DeckbridgeError
 from ..outdir import lock, remove_stale, staged
-from ..studies.cases import mesh_variants, parse_k_factors, parse_mesh_options
+from ..studies.cases import mesh_variants, parse_grid_options, parse_k_factors, parse_mesh_options
 from ..studies.liftoff import critical_load, format_table
 from ..studies.metrics import rnd
 from ._common import main, model_options
@@ -27,6 +27,11 @@ DEFAULT_K = "0.01,0.1,1,10,100,1000"
               help="Study folder: summary.json, sweep.csv, report.html, run.json and cases/ (resumable).")
 @click.option("--mesh", "mesh_opts", multiple=True, metavar="KEY=V1,V2,...",
               help="Mesh variants, e.g. --mesh n_theta=60,120,240 (repeatable: the product is swept).")
+@click.option("--grid", "grid_opts", multiple=True, metavar="KEY=V1,V2,...",
+              help="Variants of any model key, e.g. --grid contact.penalty.open_ratio=1e-12,1e-3 --grid "
+                   "contact.penalty.k_tangent=follow,1e6 (repeatable: the product is swept).")
+@click.option("--claim-load-factor", "claim_lf", type=float, default=None, metavar="L",
+              help="Load factor at which the paper's claims are judged [default: min(1, steps.lambda_max)].")
 @click.option("--tol", type=float, default=0.02, show_default=True,
               help="Recommended k: within TOL x |Lagrange peak compression| at every compared load factor.")
 @click.option("--load-factor", "load_factors", multiple=True, type=float, metavar="L",
@@ -40,16 +45,19 @@ DEFAULT_K = "0.01,0.1,1,10,100,1000"
               help="Worker processes of the local Dask cluster [default: the machine's cores].")
 @click.option("--strategy", type=click.Choice(["split", "mesh"]), default="split", show_default=True,
               help="split: one condensation task per mesh, one task per case; mesh: one task per mesh.")
-def sweep_cmd(model, k_factors, outdir, mesh_opts, tol, load_factors, open_stiffness, scheduler, workers, strategy):
-    """Penalty sensitivity of MODEL: every k-factor (and mesh) against the Lagrange reference."""
+def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, load_factors, open_stiffness,
+              scheduler, workers, strategy):
+    """Penalty sensitivity of MODEL: every k-factor (and mesh, and grid point) against the Lagrange
+    reference, with the paper's two claims judged per variant and quantity."""
     from ..studies.cluster import open_client
     from ..studies.sweep import check_options, run_sweep
 
-    _check_sizes(k_factors, mesh_opts, load_factors, workers)   # counted before anything is expanded
+    _check_sizes(k_factors, mesh_opts, load_factors, workers, grid_opts)   # counted before anything is expanded
     ks = parse_k_factors(k_factors)
     meshes = parse_mesh_options(mesh_opts)
-    check_options(ks, tol, open_stiffness, strategy, model, list(load_factors))
-    variants = mesh_variants(model, meshes)      # a bad mesh value fails here, before any work
+    grid = parse_grid_options(grid_opts)
+    check_options(ks, tol, open_stiffness, strategy, model, list(load_factors) + ([claim_lf] if claim_lf is not None else []))
+    variants = mesh_variants(model, meshes, grid)   # a bad mesh or grid value fails here, before any work
     allow_large = click.get_current_context().meta.get("deckbridge.allow_large", False)
     n_workers = workers or (1 if scheduler else os.cpu_count() or 1)
     for v in variants:
@@ -58,13 +66,16 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, tol, load_factors, open_stiff
         remove_stale(outdir)                     # temporaries of a killed run
         with open_client(scheduler, workers) as client:
             out = run_sweep(model, ks, outdir, meshes=meshes, tol=tol, load_factors=list(load_factors) or None,
-                            open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True)
+                            open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True,
+                            grid=grid, claim_load_factor=claim_lf)
     s, run = out["summary"], out["run"]
     click.echo(f"{len(run['computed'])} cases computed, {len(run['reused'])} reused from {Path(outdir) / 'cases'}"
                + (f", {len(run['failed_now'])} failed" if run["failed_now"] else "")
                + f" ({run['executor']})")
     for m in s["meshes"]:
         lag = m["lagrange"]
+        if m.get("grid"):
+            click.echo("grid " + " ".join(f"{k}={'follow' if v is None else v}" for k, v in m["grid"].items()))
         click.echo(f"mesh {m['mesh']}: Lagrange liftoff lambda = {_f(lag.get('liftoff_load_factor'))}")
         click.echo(f"  {'k-factor':>9} {'max|dsig| MPa':>14} {'% of peak':>10} {'IoU':>6} {'peak MPa':>9} "
                    f"{'liftoff':>8}  within tol")
@@ -78,13 +89,43 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, tol, load_factors, open_stiff
         if not m.get("max_rel_diff_never_grows_with_k"):
             click.echo("  note: max |dsig| grows again at large k (open gaps carry k_open x gap; "
                        "try --open-stiffness fixed or a smaller contact.penalty.open_ratio)")
+    for line in claims_lines(s.get("claims") or []):
+        click.echo(line)
     rec = s["recommended_k_factor"]
     click.echo("recommended k-factor: " + (f"{rec:g}" if rec is not None else "none") + f" ({s['recommended_k_factor_note']})")
     for p in out["paths"]:
         click.echo(f"wrote {p}")
 
 
-def _check_sizes(k_factors: str, mesh_opts, load_factors, workers) -> None:
+def claims_lines(claims: list[dict]) -> list[str]:
+    """The claims' verdicts, one line per variant and quantity."""
+    out = []
+    for c in claims:
+        if c.get("error"):
+            out.append(f"claims [{c['variant']}]: no Lagrange reference ({c['error']})")
+            continue
+        on = c["onsets"]
+        out.append(f"claims at lambda = {c['load_factor']:.4g} [{c['grid_label'] or c['mesh']}]: onsets first node / "
+                   f"whole section: Lagrange {_f(on['lagrange']['first_node'])} / {_f(on['lagrange']['whole_section'])}; "
+                   + ", ".join(f"k={p['k_factor']:g} {_f(p['first_node'])} / {_f(p['whole_section'])}" for p in on["penalty"]))
+        for q, v1 in c["claim1"].items():
+            v2 = c["claim2"][q]
+            mx = max((d["max_in_lifted_pa"] for d in v1["penalty"] if d["max_in_lifted_pa"] is not None), default=None)
+            out.append(f"  {q:<16} claim 1 {'holds' if v1['holds'] else 'no   '} (penalty max in lifted zones "
+                       f"{_mpa(mx)} MPa, Lagrange max {_mpa(v1['lagrange_max_pa'])} MPa); claim 2: peak |sigma| "
+                       f"{v2['direction']} with k ({', '.join(_mpa(x) for x in v2['peak_abs_pa'])} MPa; Lagrange "
+                       f"{_mpa(v2['lagrange_peak_abs_pa'])}), reproduces Lagrange at k = "
+                       f"{', '.join(f'{k:g}' for k in v2['reproduces_lagrange_at_k']) or 'none'}")
+        if c["k_tangent_follows_k"]:
+            out.append(f"  note: {c['lagrange_depends_on_alpha_note']}")
+    return out
+
+
+def _mpa(v) -> str:
+    return "-" if v is None else f"{v / 1e6:.3g}"
+
+
+def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=()) -> None:
     """Caps on the size of a study, from the option text alone (nothing expanded yet)."""
     n_k = str(k_factors).count(",") + 1
     limits.check_count("--k-factors", n_k, limits.MAX_K_FACTORS, "k-factors")
@@ -92,7 +133,11 @@ def _check_sizes(k_factors: str, mesh_opts, load_factors, workers) -> None:
     for opt in mesh_opts:
         n_mesh *= opt.count(",") + 1
         limits.check_count("--mesh", n_mesh, limits.MAX_MESH_VARIANTS, "mesh variants")
-    limits.check_count("--k-factors x --mesh", n_mesh * (n_k + 1), limits.MAX_CASES, "cases")
+    n_grid = 1
+    for opt in grid_opts:
+        n_grid *= opt.count(",") + 1
+        limits.check_count("--grid", n_grid, limits.MAX_GRID_CASES, "grid cases")
+    limits.check_count("--k-factors x --mesh x --grid", n_grid * n_mesh * (n_k + 1), limits.MAX_CASES, "cases")
     limits.check_count("--load-factor", len(load_factors), limits.MAX_LOAD_FACTORS, "load factors")
     limits.check_workers(workers)
 

@@ -110,7 +110,39 @@ def sigma_png(point, labels: list[str], title: str) -> bytes:
     return png_bytes(sigma_n_figure(point, labels, title=title))
 
 
-def render_sweep(summary: dict, results: list, model=None, mapper=None) -> str:
+def claims_png(verdict: dict, q, title: str) -> bytes:
+    from .claims_figures import claims_figure
+    return png_bytes(claims_figure(verdict, q, title))
+
+
+def _claims_view(summary: dict, quantities, pngs) -> list[dict]:
+    """Per variant: title, figure and one row per quantity (verdicts with their numbers)."""
+    from .claims_figures import claims_quantity_names
+    names = claims_quantity_names()
+    out = []
+    for c in summary.get("claims") or []:
+        if c.get("error"):
+            out.append({"title": c["variant"], "error": c["error"], "rows": [], "png": None, "note": None,
+                        "onsets": []})
+            continue
+        rows = []
+        for q, v1 in c["claim1"].items():
+            v2 = c["claim2"][q]
+            mx = max((d["max_in_lifted_pa"] for d in v1["penalty"] if d["max_in_lifted_pa"] is not None), default=None)
+            rows.append([names[q], "holds" if v1["holds"] else "no", mpa(mx), mpa(v1["lagrange_max_pa"]),
+                         ", ".join(f"{k:g}" for k in v1["holds_for_k"]) or "–",
+                         v2["direction"], ", ".join(mpa(x) for x in v2["peak_abs_pa"]), mpa(v2["lagrange_peak_abs_pa"]),
+                         ", ".join(f"{k:g}" for k in v2["reproduces_lagrange_at_k"]) or "none"])
+        on = c["onsets"]
+        onsets = [["Lagrange", fmt(on["lagrange"]["first_node"]), fmt(on["lagrange"]["whole_section"])]] + [
+            [f"penalty k = {p['k_factor']:g}", fmt(p["first_node"]), fmt(p["whole_section"])] for p in on["penalty"]]
+        out.append({"title": f"{c['grid_label'] or 'model as given'} (mesh {c['mesh']}), λ = {c['load_factor']:.4g}",
+                    "rows": rows, "onsets": onsets, "png": next(pngs), "error": None,
+                    "note": c["lagrange_depends_on_alpha_note"], "follows": c["k_tangent_follows_k"]})
+    return out
+
+
+def render_sweep(summary: dict, results: list, model=None, mapper=None, quantities=None) -> str:
     """The sweep report as one HTML string (``results``: :class:`~deckbridge.studies.metrics.VariantResult`).
 
     ``mapper(fn, jobs) -> list`` renders the figures (default: the builtin map, in process;
@@ -122,6 +154,10 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None) -> str:
             if _drawn(pt, summary["tol"]):
                 jobs.append((sigma_png, (pt, r.comparison.labels,
                                          f"mesh {m['mesh']}: σN vs azimuth, λ = {pt.load_factor:.4g} ({pt.what})")))
+    for c in summary.get("claims") or []:
+        if not c.get("error"):
+            q = quantities[quantities["case_id"].str.startswith(c["variant"] + "_")] if quantities is not None else None
+            jobs.append((claims_png, (c, q, c["grid_label"] or c["mesh"])))
     pngs = iter(list(mapper(_call, jobs)) if mapper is not None else [_call(j) for j in jobs])
     metrics = next(pngs)
     meshes = []
@@ -131,7 +167,8 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None) -> str:
              "png": next(pngs) if _drawn(pt, summary["tol"]) else None} for pt in r.comparison.points]
         meshes.append({"label": m["mesh"], "recommended": fmt(m["recommended_k_factor"], "g"), "rows": _mesh_rows(m),
                        "monotone": m.get("max_rel_diff_never_grows_with_k"), "points": points})
-    return env().get_template("sweep.html.j2").render(
+    claims = _claims_view(summary, quantities, pngs)
+    return env().get_template("sweep.html.j2").render(claims=claims, claims_definition=summary.get("claims_definition"),
         ver=deckbridge_version(), penalty_rule=summary["penalty_rule"], recommended=summary["recommended_k_factor"],
         recommended_note=summary["recommended_k_factor_note"], tol_pct=summary["tol"] * 100, metrics_png=metrics,
         meshes=meshes, figure_below_pct=FIGURE_BELOW * 100,

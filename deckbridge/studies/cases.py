@@ -1,4 +1,10 @@
-"""Cases of a study: one (mesh variant, method, penalty factor) each, with a stable id.
+"""Cases of a study: one (variant, method, penalty factor) each, with a stable id.
+
+A *variant* is the model with some ``mesh.*`` keys (``--mesh``) and some other model keys
+(``--grid KEY=V1,V2``, e.g. ``contact.penalty.open_ratio=1e-12,1e-3``) overridden. Variants that
+differ only in keys the condensation does not depend on (:data:`SOLVE_TIME_KEYS`: the penalty
+stiffness rule, the open-gap ratio and the tangential spring stiffness, which are applied after the
+sparse Schur complement) share one condensation (:attr:`MeshVariant.condense_key`).
 
 A *mesh variant* is the model with some ``mesh.*`` keys overridden (``--mesh n_theta=60,120``);
 every case of one variant shares its condensed system (assembly, factorisation and Schur
@@ -17,11 +23,15 @@ import math
 from dataclasses import dataclass, field
 
 from ..errors import DeckbridgeError
-from ..model import MeshSpec, Model
+from ..model import MeshSpec, Model, parse_override
 
 CASE_FORMAT = 1                      # bump when the stored case content changes meaning
 MESH_KEYS = tuple(f.name for f in MeshSpec.__dataclass_fields__.values())
 OPEN_STIFFNESS = ("scaled", "fixed")
+# keys applied after the condensation (spring stiffness is re-bound on the retained dofs, see
+# deckbridge.tangent_springs); only with tangential springs (friction carries k_t in its own path)
+SOLVE_TIME_KEYS = ("contact.penalty.alpha", "contact.penalty.k_normal", "contact.penalty.open_ratio",
+                   "contact.penalty.k_tangent")
 
 
 def _canon(obj) -> str:
@@ -42,11 +52,35 @@ class MeshVariant:
     """The model with ``overrides`` ({mesh key: value}) applied; ``model`` is validated."""
     overrides: tuple[tuple[str, int], ...]
     model: Model = field(compare=False, repr=False)
+    grid: tuple[tuple[str, object], ...] = ()
+
+    @property
+    def mesh_label(self) -> str:
+        m = self.model.mesh
+        return f"{m.n_theta}x{m.n_z}x{m.n_r}"
 
     @property
     def label(self) -> str:
-        m = self.model.mesh
-        return f"{m.n_theta}x{m.n_z}x{m.n_r}"
+        """'72x6x2', or with grid values '72x6x2_g<hash of the grid values>' (a file-name friendly id)."""
+        return self.mesh_label + (f"_g{_hash(list(self.grid))[:6]}" if self.grid else "")
+
+    @property
+    def grid_label(self) -> str:
+        """'open_ratio=0.001 k_tangent=follow' (last part of each key), '' without grid."""
+        return " ".join(f"{k.rsplit('.', 1)[-1]}={'follow' if v is None else v}" for k, v in self.grid)
+
+    @property
+    def condense_key(self) -> str:
+        """Hash of what the condensation depends on: variants sharing it share one condensation."""
+        d = self.model.to_dict()
+        if self.model.contact.tangential == "springs":
+            for key in SOLVE_TIME_KEYS:
+                sec, name = key.rsplit(".", 1)
+                node = d
+                for part in sec.split("."):
+                    node = node[part]
+                node.pop(name, None)
+        return _hash({"format": CASE_FORMAT, "condense": d})
 
     @property
     def key(self) -> str:
@@ -128,16 +162,57 @@ def parse_mesh_options(options: list[str] | tuple[str, ...] | None) -> list[dict
     return [dict(zip(keys, combo)) for combo in itertools.product(*(axes[k] for k in keys))]
 
 
-def mesh_variants(model: Model, overrides: list[dict[str, int]] | None = None) -> list[MeshVariant]:
-    """Validated mesh variants of ``model`` (ModelError for a bad value, e.g. n_theta < 8)."""
+def parse_grid_options(options: list[str] | tuple[str, ...] | None) -> list[dict[str, object]]:
+    """``['contact.penalty.open_ratio=1e-12,1e-3', 'load_introduction=distributing,kinematic']`` -> the
+    product of the values, in the order given ([{}] without options). Values are read as YAML
+    (numbers, null, strings; ``follow`` is kept as written); keys are checked against the model."""
+    axes: dict[str, list] = {}
+    for opt in options or []:
+        if "=" not in opt:
+            raise DeckbridgeError(f"--grid = {opt!r}: expected KEY=V1,V2,... with KEY a model key, "
+                                  "e.g. contact.penalty.open_ratio=1e-12,1e-3")
+        key, raw = (x.strip() for x in opt.split("=", 1))
+        if key.startswith("mesh."):
+            raise DeckbridgeError(f"--grid = {opt!r}: mesh keys go to --mesh")
+        if key in axes:
+            raise DeckbridgeError(f"--grid = {opt!r}: key {key!r} given twice")
+        vals = []
+        for p in (x.strip() for x in raw.split(",")):
+            if not p:
+                raise DeckbridgeError(f"--grid = {opt!r}: an empty value")
+            v = parse_override(f"{key}={p}")[1]
+            if v not in vals:
+                vals.append(v)
+        axes[key] = vals
+    if not axes:
+        return [{}]
+    keys = list(axes)
+    return [dict(zip(keys, combo)) for combo in itertools.product(*(axes[k] for k in keys))]
+
+
+def mesh_variants(model: Model, overrides: list[dict[str, int]] | None = None,
+                  grid: list[dict[str, object]] | None = None) -> list[MeshVariant]:
+    """Validated variants of ``model``: every mesh override x every grid point (ModelError for a bad
+    value, e.g. n_theta < 8 or an unknown key)."""
     out, seen = [], set()
     for ov in overrides or [{}]:
-        m = model.with_overrides({f"mesh.{k}": v for k, v in ov.items()}) if ov else model
-        v = MeshVariant(tuple(sorted(ov.items())), m)
-        if v.key not in seen:
-            seen.add(v.key)
-            out.append(v)
+        for g in grid or [{}]:
+            sets = {**{f"mesh.{k}": v for k, v in ov.items()}, **g}
+            m = model.with_overrides(sets) if sets else model
+            gv = tuple((k, _grid_value(m, k)) for k in g)
+            v = MeshVariant(tuple(sorted(ov.items())), m, gv)
+            if (v.key, gv) not in seen:
+                seen.add((v.key, gv))
+                out.append(v)
     return out
+
+
+def _grid_value(model: Model, key: str):
+    """The value the validated model holds for ``key`` (e.g. 'follow' reads back as None)."""
+    node = model.to_dict()
+    for part in key.split("."):
+        node = node[part]
+    return node
 
 
 def sweep_cases(variants: list[MeshVariant], k_factors: list[float], open_stiffness: str = "scaled") -> list[Case]:

@@ -63,7 +63,9 @@ def critical_load(model: Model, methods: tuple[str, ...] | list[str] = METHODS, 
     mesh, system = condense_model(model)
     with one_blas_thread():
         res = {m: _one(model, mesh, system, m, tol, kf) for m in methods}
+    follows = model.contact.penalty.k_tangent_follows and model.contact.tangential == "springs"
     out = {"model": model.name, "load_introduction": model.load_introduction, "tol": tol,
+           "k_tangent_follows_alpha": follows,
            "beam_theory_lambda_c": model.beam_theory_liftoff(),
            "base_moment_nm_at_lambda_1": model.base_moment, "methods": list(methods), **res}
     if len(methods) == 2:
@@ -87,6 +89,10 @@ def format_table(result: dict) -> str:
     if d is not None:
         rel = "" if d["relative_to_lagrange"] is None else f" ({d['relative_to_lagrange'] * 100:+.2f} % of Lagrange)"
         lines.append(f"difference penalty - lagrange: {d['penalty_minus_lagrange']:+.5f}{rel}")
+    if result.get("k_tangent_follows_alpha"):
+        lines.append("note: contact.penalty.k_tangent follows alpha: the circumferential springs are k_c(alpha) "
+                     "(x the k-factor for penalty), so both onsets depend on alpha, Lagrange's too; "
+                     "set k_tangent to a number [N/m] to compare methods at a fixed restraint")
     bt = result["beam_theory_lambda_c"]
     lines.append(f"beam theory (thin ring, rigid section) N R / (2 (M + T H)): "
                  + ("none (M + T H = 0)" if bt is None else f"{bt:.5f}")

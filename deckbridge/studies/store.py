@@ -1,5 +1,7 @@
 """On-disk store of finished cases: ``DIR/cases/<case_id>.csv`` (the tidy contact table) and
-``DIR/cases/<case_id>.json`` (its spec, summary and provenance), each written atomically.
+``DIR/cases/<case_id>.json`` (its spec, summary and provenance), each written atomically; with field
+recovery also ``DIR/cases/<case_id>.wall.csv`` (base-wall sigma_zz per state and azimuth,
+:mod:`deckbridge.wall_stress`), whose sha256 the JSON names too.
 
 The JSON is written last and names the table's row count and sha256, so a case counts as done
 only when both files are whole and match the case's spec; anything else is recomputed. A case
@@ -64,24 +66,41 @@ class CaseStore:
             return rec
         if not tp.is_file() or rec.get("table_sha256") != _sha256(tp):
             return None
+        ws = rec.get("wall_table_sha256")
+        if ws is not None and (not self.wall_path(case).is_file() or _sha256(self.wall_path(case)) != ws):
+            return None
         return rec
 
     def has(self, case: Case) -> bool:
         return self.meta(case) is not None
 
-    def put(self, case: Case, table: pd.DataFrame, summary: dict, run_id: str, extra: dict | None = None) -> Path:
-        """Store one finished case: table first (temp file + rename), then its JSON record."""
-        tp = self.table_path(case)
-        fd, tmp = tempfile.mkstemp(prefix=f".{tp.name}.", dir=self.dir)
+    def wall_path(self, case: Case) -> Path:
+        return self.dir / f"{case.case_id}.wall.csv"
+
+    def _write_csv(self, path: Path, frame: pd.DataFrame) -> None:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=self.dir)
         try:
             with os.fdopen(fd, "w", newline="") as fh:
-                conform(table).to_csv(fh, index=False)
-            os.replace(tmp, tp)
+                frame.to_csv(fh, index=False)
+            os.replace(tmp, path)
         except BaseException:
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
             raise
-        rec = {"case_id": case.case_id, "label": case.label, "mesh": case.mesh.label,
+
+    def put(self, case: Case, table: pd.DataFrame, summary: dict, run_id: str, extra: dict | None = None,
+            wall: pd.DataFrame | None = None) -> Path:
+        """Store one finished case: table (and base-wall table) first (temp file + rename), then its
+        JSON record."""
+        tp = self.table_path(case)
+        self._write_csv(tp, conform(table))
+        wp = self.wall_path(case)
+        if wall is not None:
+            self._write_csv(wp, wall)
+        else:
+            with contextlib.suppress(OSError):
+                wp.unlink()
+        rec = {"wall_table_sha256": None if wall is None else _sha256(wp),"case_id": case.case_id, "label": case.label, "mesh": case.mesh.label,
                "spec": case.spec, "summary": summary, "rows": int(len(table)), "table": tp.name,
                "table_sha256": _sha256(tp), "run_id": run_id, "stored_at": time.time(), **(extra or {})}
         write_text(self.meta_path(case), json.dumps(rec, indent=1, default=str) + "\n")
@@ -109,6 +128,14 @@ class CaseStore:
         except (OSError, ValueError) as exc:
             raise DeckbridgeError(f"{path}: cannot read the stored case table ({exc})") from None
         return conform(df)
+
+    def wall(self, case: Case) -> pd.DataFrame | None:
+        """The stored base-wall sigma_zz table of ``case`` (None when the case was solved without
+        field recovery, e.g. --strategy split on a cluster)."""
+        path = self.wall_path(case)
+        if not path.is_file():
+            return None
+        return pd.read_csv(path, float_precision="round_trip")
 
     def log(self) -> list[dict]:
         """Every line of the computation log, oldest first."""

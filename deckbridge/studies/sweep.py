@@ -7,9 +7,19 @@ mesh (:mod:`.metrics`) and writes, atomically:
   DIR/summary.json   the tables (per mesh and k) and the recommended k-factor; deterministic: a
                      resumed study writes the same file as an uninterrupted one
   DIR/sweep.csv      one row per (mesh, case, compared load factor)
+  DIR/quantities.csv the tidy table of the compared quantities per case at the claims' load factor
+                     (case id, grid values, method, k-factor, load factor, quantity, theta or 'peak',
+                     value, unit) and summary.json 'claims': the paper's claims judged (:mod:`.claims`)
   DIR/report.html    sigma_N(theta) of every k against Lagrange, metrics against k (log axes)
   DIR/run.json       this run only: cases computed / reused / failed, timings, executor
   DIR/cases/         the stored cases (see :mod:`.store`)
+
+Cases are grouped by condense key (:attr:`.cases.MeshVariant.condense_key`): grid points differing only
+in the penalty rule, the open ratio or the spring stiffness share one condensation, each case re-binding
+its own contact and spring stiffness on it (:func:`.tasks.solve_case`). With k_t following alpha the
+penalty springs scale with the k-factor (:mod:`deckbridge.tangent_springs`); the Lagrange reference keeps
+those of the model's alpha. Base-wall sigma_zz needs the sparse factor: in process and with strategy
+'mesh' it is recovered, with 'split' (condensation moved to other workers) only contact sigma_N is judged.
 
 Execution: ``client=None`` runs in this process; a ``dask.distributed.Client`` runs the cases on
 its cluster. Strategy ``'split'`` (default) submits one condensation task per mesh and one task per
@@ -37,6 +47,7 @@ from ..errors import DeckbridgeError
 from ..model import Model
 from ..outdir import prepare, staged
 from .cases import OPEN_STIFFNESS, Case, mesh_variants, sweep_cases
+from .claims import tidy_frame, variant_claims
 from .metrics import VariantResult, monotone, rnd, variant_metrics
 from .store import CaseStore
 from .tasks import condense_or_error, condense_variant, solve_case, solve_or_error, solve_variant_batch
@@ -71,7 +82,7 @@ def check_options(k_factors, tol, open_stiffness, strategy, model: Model, load_f
 def _groups(cases: list[Case]) -> list[tuple[object, list[Case]]]:
     out: dict[str, tuple[object, list[Case]]] = {}
     for c in cases:
-        out.setdefault(c.mesh.key, (c.mesh, []))[1].append(c)
+        out.setdefault(c.mesh.condense_key, (c.mesh, []))[1].append(c)
     return list(out.values())
 
 
@@ -85,7 +96,8 @@ def execute(todo: list[Case], store: CaseStore, run_id: str, client=None, strate
     def finish(case: Case, out=None, error: str | None = None):
         if error is None:
             df, summary, prov = out
-            store.put(case, df, summary, run_id, extra=prov)
+            prov = dict(prov)
+            store.put(case, df, summary, run_id, extra=prov, wall=prov.pop("wall", None))
             done.append(case.case_id)
             timings[case.case_id] = prov
         else:
@@ -96,20 +108,20 @@ def execute(todo: list[Case], store: CaseStore, run_id: str, client=None, strate
         if on_case_stored is not None:
             on_case_stored(case)
 
-    jobs = lambda cs: [(c.method, c.k_factor, c.open_stiffness) for c in cs]  # noqa: E731
+    jobs = lambda cs: [(c.mesh.model.to_dict(), c.method, c.k_factor, c.open_stiffness) for c in cs]  # noqa: E731
     try:
         if client is None:
             for variant, cases in _groups(todo):
                 md = variant.model.to_dict()
                 try:
-                    cond = condense_variant(md)
+                    cond = condense_variant(md, light=False)
                 except DeckbridgeError as exc:
                     for c in cases:
                         finish(c, error=str(exc))
                     continue
                 for c in cases:
                     try:
-                        res = solve_case(cond, md, c.method, c.k_factor, c.open_stiffness)
+                        res = solve_case(cond, c.mesh.model.to_dict(), c.method, c.k_factor, c.open_stiffness)
                     except DeckbridgeError as exc:
                         finish(c, error=str(exc))
                     else:
@@ -128,12 +140,12 @@ def _execute_dask(client, todo, strategy, run_id, jobs, finish) -> None:
     for variant, cases in _groups(todo):
         md = variant.model.to_dict()
         if strategy == "mesh":
-            f = client.submit(solve_variant_batch, md, jobs(cases), key=f"batch-{variant.key}-{run_id}")
+            f = client.submit(solve_variant_batch, md, jobs(cases), key=f"batch-{variant.condense_key}-{run_id}")
             futures[f] = cases
         else:
-            cf = client.submit(condense_or_error, md, key=f"condense-{variant.key}-{run_id}")
+            cf = client.submit(condense_or_error, md, key=f"condense-{variant.condense_key}-{run_id}")
             for c in cases:
-                f = client.submit(solve_or_error, cf, md, c.method, c.k_factor, c.open_stiffness,
+                f = client.submit(solve_or_error, cf, c.mesh.model.to_dict(), c.method, c.k_factor, c.open_stiffness,
                                   key=f"case-{c.case_id}-{run_id}")
                 futures[f] = [c]
     try:
@@ -158,12 +170,18 @@ def _execute_dask(client, todo, strategy, run_id, jobs, finish) -> None:
 def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: list[dict] | None = None,
               tol: float = 0.02, load_factors: list[float] | None = None, open_stiffness: str = "scaled",
               client=None, strategy: str = "split", progress: bool = True,
-              on_case_stored: Callable[[Case], None] | None = None, report: bool = True) -> dict:
-    """Run (or resume) the sweep into ``outdir``; returns {'summary', 'run', 'paths', 'variants'}."""
+              on_case_stored: Callable[[Case], None] | None = None, report: bool = True,
+              grid: list[dict] | None = None, claim_load_factor: float | None = None) -> dict:
+    """Run (or resume) the sweep into ``outdir``; returns {'summary', 'run', 'paths', 'variants', 'claims'}.
+
+    ``grid``: points of other model keys (see :func:`.cases.parse_grid_options`); ``claim_load_factor``:
+    the lambda at which the claims are judged (default min(1, steps.lambda_max))."""
     t0 = time.perf_counter()
     k_factors = sorted(set(float(k) for k in k_factors))
     check_options(k_factors, tol, open_stiffness, strategy, model, load_factors)
-    variants = mesh_variants(model, meshes)
+    lam = min(1.0, model.steps.lambda_max) if claim_load_factor is None else float(claim_load_factor)
+    check_options(k_factors, tol, open_stiffness, strategy, model, [lam])
+    variants = mesh_variants(model, meshes, grid)
     cases = sweep_cases(variants, k_factors, open_stiffness)
     prepare(outdir)
     store = CaseStore(outdir)
@@ -183,17 +201,31 @@ def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: 
         first = next(iter(records.values()))["error"]
         raise DeckbridgeError(f"every case failed; first: {first}")
     tables = {c.case_id: store.table(c) for c in cases if not records[c.case_id].get("error")}
-    results = [variant_metrics(v, [c for c in cases if c.mesh.key == v.key], tables, records, tol, load_factors)
-               for v in variants]
+    of = lambda v: [c for c in cases if c.mesh is v]  # noqa: E731
+    results = [variant_metrics(v, of(v), tables, records, tol, load_factors) for v in variants]
     summary = make_summary(model, variants, results, k_factors, tol, open_stiffness, load_factors)
+    walls = {cid: store.wall(c) for c in cases if (cid := c.case_id) in tables}
+    claims, qrows = [], []
+    for v in variants:
+        verdict, rows = variant_claims(v, of(v), tables, walls, records, lam, tol)
+        claims.append(verdict)
+        qrows += rows
+    summary["claims"] = rnd(claims)
+    summary["claims_definition"] = (
+        "claim 1: penalty sigma > 0 in its lifted zones (every table node of the azimuth open) while Lagrange "
+        "sigma <= 0 at every azimuth, at the state of step 2 nearest to lambda; claim 2: peak |sigma| over the "
+        "azimuth falls as k grows (direction: falls / rises / non-monotone), and the k within tol x the Lagrange "
+        "peak; '> 0' means above 1e-6 x the Lagrange peak; wall sigma_zz needs field recovery (in process or "
+        "--strategy mesh)")
     t3 = time.perf_counter()
     run = {"run_id": run_id, "cases": len(cases), "computed": ex["computed"], "failed_now": ex["failed"],
            "reused": reused, "executor": _executor_name(client, strategy),
            "timings_s": {"plan": t1 - t0, "solve": t2 - t1, "metrics": t3 - t2},
            "case_timings_s": ex["timings"]}
-    paths = write_outputs(outdir, model, summary, results, run, report, client)
+    qtable = tidy_frame(qrows, variants)
+    paths = write_outputs(outdir, model, summary, results, run, report, client, qtable)
     run["timings_s"]["total"] = time.perf_counter() - t0
-    return {"summary": summary, "run": run, "paths": paths, "variants": results}
+    return {"summary": summary, "run": run, "paths": paths, "variants": results, "quantities": qtable}
 
 
 def _executor_name(client, strategy) -> str:
@@ -213,7 +245,7 @@ def make_summary(model: Model, variants, results: list[VariantResult], k_factors
     for v, r in zip(variants, results):
         m = v.model.mesh
         meshes.append({
-            "mesh": v.label, "n_theta": m.n_theta, "n_z": m.n_z, "n_r": m.n_r, "overrides": dict(v.overrides),
+            "mesh": v.label, "grid": dict(v.grid), "n_theta": m.n_theta, "n_z": m.n_z, "n_r": m.n_r, "overrides": dict(v.overrides),
             "compared_load_factors": [] if r.comparison is None else [p.load_factor for p in r.comparison.points],
             "lagrange": r.lagrange, "penalty": r.per_k, "recommended_k_factor": r.recommended_k_factor,
             "max_rel_diff_never_grows_with_k": monotone([d["max_rel_diff"] for d in r.per_k if not d.get("error")]),
@@ -256,19 +288,22 @@ def sweep_frame(results: list[VariantResult]) -> pd.DataFrame:
 
 
 def write_outputs(outdir, model, summary: dict, results: list[VariantResult], run: dict, report: bool,
-                  client=None) -> list[Path]:
-    """summary.json, sweep.csv, run.json and report.html (figures drawn on the Dask workers if any)."""
-    names = ["summary.json", "sweep.csv", "run.json"] + (["report.html"] if report else [])
+                  client=None, quantities: pd.DataFrame | None = None) -> list[Path]:
+    """summary.json, sweep.csv, quantities.csv, run.json and report.html (figures drawn on the Dask
+    workers if any)."""
+    names = ["summary.json", "sweep.csv", "quantities.csv", "run.json"] + (["report.html"] if report else [])
     html = None
     if report:
         from ..report.sweep_report import render_sweep
         t = time.perf_counter()
         mapper = None if client is None else (lambda fn, jobs: client.gather(client.map(fn, jobs, pure=False)))
-        html = render_sweep(summary, results, model, mapper=mapper)
+        html = render_sweep(summary, results, model, mapper=mapper, quantities=quantities)
         run["timings_s"]["report"] = time.perf_counter() - t
     with staged(outdir) as stage:
         (stage / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
         sweep_frame(results).to_csv(stage / "sweep.csv", index=False, float_format="%.9g")
+        (quantities if quantities is not None else pd.DataFrame()).to_csv(stage / "quantities.csv", index=False,
+                                                                          float_format="%.9g")
         (stage / "run.json").write_text(json.dumps(rnd(run), indent=1) + "\n")
         if html is not None:
             (stage / "report.html").write_text(html, encoding="utf-8")

@@ -44,15 +44,32 @@ def where() -> str:
     return f"{socket.gethostname()}:{os.getpid()}"
 
 
-def condense_variant(model_dict: dict) -> Condensed:
-    """Mesh, assemble, factor and condense once; the result serves every method and k-factor."""
+def condense_variant(model_dict: dict, light: bool = True) -> Condensed:
+    """Mesh, assemble, factor and condense once; the result serves every method and k-factor (and
+    every variant with the same condense key). ``light``: without the sparse factor (it cannot leave
+    its process), so without field recovery (no wall stress)."""
     from ..solve import condense_model
 
     t0 = time.perf_counter()
     model = Model.from_dict(model_dict)
     mesh, system = condense_model(model)
-    light = dataclasses.replace(system, S=np.zeros((0, 0)), fhat=np.zeros((0, 0)), schur=None)
-    return Condensed(mesh, light, time.perf_counter() - t0, where())
+    if light:
+        system = dataclasses.replace(system, schur=None)
+    return Condensed(mesh, system, time.perf_counter() - t0, where())
+
+
+def _bind(cond: Condensed, model: Model):
+    """(mesh, system) of ``model`` on a condensation made for a variant with the same condense key:
+    the case's contact stiffness, open ratio and tangential springs (re-bound on the retained dofs)."""
+    from ..mesh import build_mesh
+    from ..solve import build_problem
+    from ..tangent_springs import rebind
+
+    mesh = build_mesh(model)
+    prob = build_problem(model, mesh)
+    return mesh, rebind(cond.system, dataclasses.replace(cond.system.problem, contact_k=prob.contact_k,
+                        k_open_ratio=prob.k_open_ratio, spring_k=prob.spring_k, contact_kt=prob.contact_kt,
+                        kt_follows_k=prob.kt_follows_k))
 
 
 def _system_for(system, method: str, k_factor: float, open_stiffness: str):
@@ -72,22 +89,32 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
     """Solve one case on a condensed variant: (tidy contact table, solver summary, provenance)."""
     from ..solve import solve_system
 
+    from ..tangent_springs import follow_springs
+    from ..wall_stress import reference_section_onset, reference_wall
+
     t0 = time.perf_counter()
     model = Model.from_dict(model_dict)
     kf = 1.0 if k_factor is None else float(k_factor)
-    system = _system_for(cond.system, method, kf, open_stiffness)
+    wall = None
     try:
+        mesh, system = _bind(cond, model)
+        system = follow_springs(_system_for(system, method, kf, open_stiffness), method, kf)
         with one_blas_thread():
-            df, summary, _ = solve_system(model, cond.mesh, system, method, kf, recover=False)
+            df, summary, sol = solve_system(model, mesh, system, method, kf, recover=False)
+            lam_s, th_s = reference_section_onset(system, mesh, sol)
+            summary["section_onset_load_factor"], summary["section_onset_theta_deg"] = lam_s, th_s
+            if system.schur is not None:
+                wall = reference_wall(system, mesh, sol)
     except DeckbridgeError:
         raise
     except Exception as exc:        # anything else crosses the process boundary as one line
         raise DeckbridgeError(f"model {model.name!r}, {method}: {type(exc).__name__}: {exc}") from None
+    summary["k_tangent_follows_k"] = bool(system.problem.kt_follows_k)
     if method == "penalty":
         summary["open_stiffness"] = open_stiffness
         summary["k_open_ratio_used"] = float(system.problem.k_open_ratio)
     prov = {"wall_time_s": time.perf_counter() - t0, "condense_s": cond.condense_s,
-            "condensed_on": cond.where, "solved_on": where()}
+            "condensed_on": cond.where, "solved_on": where(), "wall": wall}
     return df, summary, prov
 
 
@@ -111,10 +138,14 @@ def solve_or_error(cond: Condensed | DeckbridgeError, model_dict: dict, method: 
         return exc
 
 
-def solve_variant_batch(model_dict: dict, jobs: list[tuple[str, float | None, str]]) -> list:
-    """Condense once and solve every job (method, k_factor, open_stiffness) of one variant, in order.
+def solve_variant_batch(model_dict: dict, jobs: list[tuple]) -> list:
+    """Condense once (with the factor: wall stress recovered) and solve every job (case model dict,
+    method, k_factor, open_stiffness) of one condense key, in order.
 
     Each item is the job's result, or the :class:`DeckbridgeError` it ended with.
     """
-    cond = condense_or_error(model_dict)
-    return [solve_or_error(cond, model_dict, *job) for job in jobs]
+    try:
+        cond = condense_variant(model_dict, light=False)
+    except DeckbridgeError as exc:
+        cond = exc
+    return [solve_or_error(cond, *job) for job in jobs]

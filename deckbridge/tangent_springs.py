@@ -1,0 +1,74 @@
+"""Tangential springs of a condensed system: re-bind their stiffness without condensing again.
+
+The circumferential springs (``contact.tangential: springs``) are added to the condensed stiffness
+after the sparse Schur complement (reference_solver.condense): S = S_schur + diag(0, k_t), then the
+contact operator Sc = S_cc - S_cs S_ss^-1 S_sc. Changing k_t therefore only needs the small dense
+algebra on the retained dofs, not a new factorisation.
+
+``follow_springs(system, method, k_factor)`` gives the system whose springs honour
+``contact.penalty.k_tangent``: when k_t follows k_n (``null``/``follow``: problem.kt_follows_k), a
+penalty solve at k-factor f uses k_t = f x k_c of each node (the paper's eq. 3 with the same alpha);
+a fixed k_t [N/m] and every Lagrange solve keep the springs as built. At f = 1 the system is returned
+unchanged (same object), so default results do not move.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import scipy.linalg as sla
+
+import reference_solver as rs
+
+
+def spring_scale(problem: rs.Problem, method: str, k_factor: float) -> float:
+    """Factor on the springs as built: k_factor for penalty when k_t follows k_n, else 1."""
+    if method == "penalty" and problem.kt_follows_k and problem.n_springs:
+        return float(k_factor)
+    return 1.0
+
+
+def rebind(system: rs.CondensedSystem, problem: rs.Problem, scale: float = 1.0) -> rs.CondensedSystem:
+    """``system`` with ``problem`` (same nodes, contacts and spring nodes) and springs problem.spring_k x scale.
+
+    The springs of ``system.problem`` at the scale it was built with (``info['spring_scale']``) are
+    taken out of S first. Returns ``system`` itself when nothing changes.
+    """
+    old = system.problem.spring_k * system.info.get("spring_scale", 1.0)
+    new = problem.spring_k * scale
+    if problem is system.problem and np.array_equal(old, new):
+        return system
+    if old.shape != new.shape:
+        raise rs.ReferenceSolverError("rebind: the spring nodes differ from the condensed system's")
+    nc, ns = system.problem.n_contacts, old.size
+    if system.S.shape[0] != nc + ns:
+        raise rs.ReferenceSolverError("rebind: the condensed system was stripped of S")
+    S = system.S.copy()
+    idx = np.arange(nc, nc + ns)
+    S[idx, idx] += new - old
+    if ns:
+        cf = sla.cho_factor(S[nc:, nc:])
+        Gs = sla.cho_solve(cf, S[nc:, :nc])
+        us0 = sla.cho_solve(cf, system.fhat[nc:])
+    else:
+        Gs, us0 = system.Gs, system.us0
+    Sc = S[:nc, :nc] - S[:nc, nc:] @ Gs
+    Sc = 0.5 * (Sc + Sc.T)
+    fc = system.fhat[:nc] - S[:nc, nc:] @ us0
+    info = {**system.info, "spring_scale": 1.0}
+    return dataclasses.replace(system, problem=dataclasses.replace(problem, spring_k=new), S=S, Sc=Sc, fc=fc,
+                               Gs=Gs, us0=us0, info=info)
+
+
+def follow_springs(system: rs.CondensedSystem, method: str, k_factor: float) -> rs.CondensedSystem:
+    """The system a solve with ``method`` at ``k_factor`` runs on (see the module docstring)."""
+    base = system.info.get("spring_base")
+    if base is None:                      # the springs as built (before any follow scaling)
+        base = system.problem
+    s = spring_scale(base, method, k_factor)
+    if s == 1.0 and base is system.problem:
+        return system
+    out = rebind(system, base, s)
+    out.info["spring_base"] = base
+    return out
