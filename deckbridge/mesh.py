@@ -15,6 +15,7 @@ import numpy as np
 
 from .azimuth import azimuth_deg  # noqa: F401 (re-exported: mesh.azimuth_deg)
 from .model import Model
+from .supports import pad_face_mask
 
 _G = 1.0 / np.sqrt(3.0)
 _GAUSS2 = np.array([-_G, _G])
@@ -124,6 +125,11 @@ class SkirtMesh:
     n_theta: int
     n_r: int
     n_z: int
+    base_elems: np.ndarray | None = None   # hexahedra whose face 1-2-3-4 (S1) is a table slave face
+    top_elems: np.ndarray | None = None    # hexahedra whose face 5-6-7-8 (S2) is loaded
+    stop_elems: np.ndarray | None = None   # first-row hexahedra on the stop side (S6 inner / S4 outer)
+    node_ids: np.ndarray | None = None     # user node id of every node (None: index + 1)
+    elem_ids: np.ndarray | None = None     # user element id of every hexahedron (None: index + 1)
 
     @property
     def n_nodes(self) -> int:
@@ -173,17 +179,19 @@ def build_mesh(model: Model) -> SkirtMesh:
 
     # --- table: base faces (nodes 1-4) of the first element row ------------------------------
     base = k == 0
-    faces = hexes[base][:, :4]
+    on_pad = pad_face_mask(model.contact.pads, nodes[hexes[base][:, :4]], 360.0 / nt)
+    base_elems = np.flatnonzero(base)[on_pad]
+    faces = hexes[base_elems][:, :4]
     a_nodes = quad_nodal_areas(nodes[faces])                  # (nf, 4)
     a_face = a_nodes.sum(axis=1)
-    kc_share = pen.alpha * kbulk * a_face[:, None] * a_nodes / vol[base][:, None]
-    table_nodes = node_index(0, np.arange(nr + 1)[:, None], np.arange(nt)[None, :], nr, nt).ravel()
+    kc_share = pen.alpha * kbulk * a_face[:, None] * a_nodes / vol[base_elems][:, None]
+    table_nodes = np.unique(faces)      # = every base-ring node, ascending, without pads
     table = _slave_set("table", nodes, table_nodes, faces, a_nodes, kc_share, pen.k_normal,
                        normal=np.tile([0.0, 0.0, 1.0], (table_nodes.size, 1)),
                        clearance=np.zeros(table_nodes.size))
 
     # --- radial stop: the wall face of the first element row, bottom nodes only ----------------
-    stop = None
+    stop, stop_elems = None, np.zeros(0, np.int64)
     side = model.contact.stop.side
     if side != "none":
         if side == "inner":   # face nodes 1, 4, 8, 5 (i = 0); stop resists inward motion
@@ -191,6 +199,7 @@ def build_mesh(model: Model) -> SkirtMesh:
         else:                 # face nodes 2, 3, 7, 6 (i = n_r - 1 side, outer); resists outward motion
             fcols, iw, sign = [1, 2, 6, 5], nr, -1.0
         row = base & (i == (0 if side == "inner" else nr - 1))
+        stop_elems = np.flatnonzero(row)
         sfaces = hexes[row][:, fcols]
         sa = quad_nodal_areas(nodes[sfaces])
         sa[:, 2:] = 0.0   # only the two base nodes of each face are slaves
@@ -222,7 +231,8 @@ def build_mesh(model: Model) -> SkirtMesh:
     np.add.at(w, tfaces.ravel(), ta.ravel())
     return SkirtMesh(nodes=nodes, hexes=hexes, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=w[top_nodes],
-                     ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz)
+                     ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz,
+                     base_elems=base_elems, top_elems=np.flatnonzero(top), stop_elems=stop_elems)
 
 
 def _slave_set(surface, nodes, slave_nodes, faces, a_nodes, k_share, k_explicit, normal, clearance):

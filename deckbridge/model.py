@@ -177,9 +177,12 @@ class Contact:
     stop: Stop = field(default_factory=Stop)
     penalty: Penalty = field(default_factory=Penalty)
     friction: float = 0.0
+    pads: Any = None   # null = continuous ring; else deckbridge.supports.Pads (issue 15)
 
     def __post_init__(self):
         _put(self, "friction", _num("contact.friction", self.friction, ge=0))
+        from .supports import pads_from
+        _put(self, "pads", pads_from(self.pads))
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..mesh import SkirtMesh, node_index
 from ..model import Model
-from .skirt import node_ids
+from .skirt import elem_ids, node_ids
 
 FACE_BASE, FACE_TOP, FACE_OUTER, FACE_INNER = "S1", "S2", "S4", "S6"
 
@@ -117,6 +117,9 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
     else:
         stop_elems, stop_face = j + 1, FACE_INNER
     top = np.concatenate([((nz - 1) * nr + i) * nt + j for i in range(nr)]) + 1
+    if mesh.base_elems is not None:   # the mesh's own face sets (pads, imported meshes)
+        base, top = elem_ids(mesh, mesh.base_elems), elem_ids(mesh, mesh.top_elems)
+        stop_elems = elem_ids(mesh, mesh.stop_elems)
     return Layout(model=model, mesh=mesh, ref_node=ref_node, ref_xyz=np.asarray(mesh.ref_point, float),
                   table_master=table_master, stop_master=stop_master, next_node=next_node,
                   next_elem=next_elem, base_elems=base, stop_elems=stop_elems, stop_face=stop_face,

@@ -18,3 +18,9 @@ def node_index(ids) -> np.ndarray:
 def element_ids(n_elements: int) -> np.ndarray:
     """Deck element ids of the skirt's ``n_elements`` hexahedra: 1..n."""
     return np.arange(1, n_elements + 1)
+
+
+def elem_ids(mesh, index) -> np.ndarray:
+    """Deck element ids of hexahedron indices of ``mesh``: its user ids, or index + 1."""
+    index = np.asarray(index, dtype=np.int64)
+    return index + 1 if getattr(mesh, "elem_ids", None) is None else np.asarray(mesh.elem_ids, np.int64)[index]
