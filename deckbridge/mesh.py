@@ -153,6 +153,9 @@ class SkirtMesh:
 
 def build_mesh(model: Model) -> SkirtMesh:
     """Mesh the skirt of ``model`` and derive slave sets, penalties and load-introduction weights."""
+    if model.mesh.file is not None:   # the analyst's own mesh (deckbridge/importers)
+        from .importers.general import imported_mesh
+        return imported_mesh(model)
     g, ms = model.geometry, model.mesh
     nt, nr, nz = ms.n_theta, ms.n_r, ms.n_z
     theta = 2.0 * np.pi * np.arange(nt) / nt

@@ -120,11 +120,17 @@ class MeshSpec:
     n_theta: int = 72
     n_z: int = 30
     n_r: int = 2
+    file: str | None = None   # imported mesh (issue 15, deckbridge/importers/spec.py): file, sets, units, axis
+    sets: Any = None
+    units: str = "m"
+    axis: Any = None
 
     def __post_init__(self):
         _put(self, "n_theta", _int("mesh.n_theta", self.n_theta, ge=8))
         _put(self, "n_z", _int("mesh.n_z", self.n_z, ge=1))
         _put(self, "n_r", _int("mesh.n_r", self.n_r, ge=1))
+        from .importers.spec import check_mesh_keys
+        check_mesh_keys(self)
 
 
 @dataclass(frozen=True)
@@ -402,4 +408,7 @@ def load(path: str | Path | None = None, overrides: list[str] | Mapping[str, Any
     model = loads_model(text, source)
     if overrides:
         model = model.with_overrides(overrides)
+    if path is not None:
+        from .importers.spec import resolve_file
+        model = resolve_file(model, Path(path).parent)
     return model

@@ -24,3 +24,19 @@ def elem_ids(mesh, index) -> np.ndarray:
     """Deck element ids of hexahedron indices of ``mesh``: its user ids, or index + 1."""
     index = np.asarray(index, dtype=np.int64)
     return index + 1 if getattr(mesh, "elem_ids", None) is None else np.asarray(mesh.elem_ids, np.int64)[index]
+
+
+def mesh_node_ids(mesh, index) -> np.ndarray:
+    """Deck node ids of node indices of ``mesh``: its user ids (imported mesh), or index + 1."""
+    index = np.asarray(index, dtype=np.int64)
+    return index + 1 if getattr(mesh, "node_ids", None) is None else np.asarray(mesh.node_ids, np.int64)[index]
+
+
+def mesh_node_index(mesh, ids) -> np.ndarray:
+    """Node indices of deck node ids of ``mesh`` (inverse of :func:`mesh_node_ids`)."""
+    ids = np.asarray(ids, dtype=np.int64)
+    if getattr(mesh, "node_ids", None) is None:
+        return ids - 1
+    order = np.argsort(mesh.node_ids)
+    pos = np.searchsorted(mesh.node_ids, ids, sorter=order)
+    return order[np.minimum(pos, order.size - 1)]
