@@ -130,7 +130,7 @@ class MeshSpec:
         _put(self, "n_z", _int("mesh.n_z", self.n_z, ge=1))
         _put(self, "n_r", _int("mesh.n_r", self.n_r, ge=1))
         from .importers.spec import check_mesh_keys
-        check_mesh_keys(self)
+        check_mesh_keys(self, ModelError, _num, _text, _choice, _put)
 
 
 @dataclass(frozen=True)
@@ -188,7 +188,7 @@ class Contact:
     def __post_init__(self):
         _put(self, "friction", _num("contact.friction", self.friction, ge=0))
         from .supports import pads_from
-        _put(self, "pads", pads_from(self.pads))
+        _put(self, "pads", pads_from(self.pads, ModelError, _int, _num))
 
 
 @dataclass(frozen=True)

@@ -37,9 +37,9 @@ class Pads:
         return np.mod(self.first_deg + 360.0 * np.arange(self.count) / self.count, 360.0)
 
 
-def pads_from(value: Any) -> Pads | None:
-    """Validate ``contact.pads`` (a mapping, a :class:`Pads` or None); ModelError names the key."""
-    from .model import ModelError, _int, _num
+def pads_from(value: Any, ModelError, _int, _num) -> Pads | None:
+    """Validate ``contact.pads`` (a mapping, a :class:`Pads` or None) with the model's checkers
+    (passed in: this module does not import the model); ModelError names the key."""
     if value is None or isinstance(value, Pads):
         return value
     if not isinstance(value, dict):
@@ -70,7 +70,7 @@ def pads_from(value: Any) -> Pads | None:
     return Pads(count=count, width_deg=width, first_deg=first, inner=inner, outer=outer)
 
 
-def pad_face_mask(pads: Pads | None, face_xyz: np.ndarray, dtheta_deg: float) -> np.ndarray:
+def pad_face_mask(pads: Pads | None, face_xyz: np.ndarray, dtheta_deg: float, ModelError=ValueError) -> np.ndarray:
     """Which base faces (``face_xyz`` (nf, 4, 3) [m]) lie on a pad; all of them when ``pads`` is None.
 
     ``dtheta_deg`` is the angular size of one element: a pad narrower than it is refused (ModelError).
@@ -78,7 +78,6 @@ def pad_face_mask(pads: Pads | None, face_xyz: np.ndarray, dtheta_deg: float) ->
     nf = face_xyz.shape[0]
     if pads is None:
         return np.ones(nf, bool)
-    from .model import ModelError
     if pads.width_deg < dtheta_deg * (1 - 1e-9):
         raise ModelError("contact.pads.width_deg", pads.width_deg,
                          f"narrower than one element ({dtheta_deg:g} deg): refine mesh.n_theta")

@@ -17,10 +17,10 @@ from itertools import permutations, product
 import numpy as np
 
 from ..azimuth import azimuth_deg
-from ..mesh import SkirtMesh, _slave_set, hex_volumes, quad_nodal_areas
+from ..mesh_data import SkirtMesh, _slave_set, hex_volumes, quad_nodal_areas
 from ..supports import pad_face_mask
 from . import checks
-from .raw import read_mesh_file
+from .read import read_mesh_file
 from .spec import MESH_UNITS
 
 CUBE = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -112,7 +112,7 @@ def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -
                          "element face (every base node must be a corner of a bottom face)")
     table_th = azimuth_deg(nodes[base, 0], nodes[base, 1])
     n_theta = max(8, int(np.unique(np.round(table_th, 6) % 360).size))   # azimuths of the base nodes
-    on_pad = pad_face_mask(model.contact.pads, nodes[hexes[on_base, :4]], 360.0 / n_theta)
+    on_pad = pad_face_mask(model.contact.pads, nodes[hexes[on_base, :4]], 360.0 / n_theta, ModelError)
     base_elems = on_base[on_pad]
     vol = hex_volumes(nodes[hexes])
     faces = hexes[base_elems, :4]

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -19,22 +18,3 @@ class RawMesh:
     nodes: np.ndarray
     elements: dict
     sets: dict = field(default_factory=dict)
-
-
-def read_mesh_file(path: str | Path) -> RawMesh:
-    """Read ``path`` by its extension: .inp (Abaqus/CalculiX), .msh (Gmsh), .bdf/.dat/.nas (Nastran)."""
-    from ..model import ModelError
-    p = Path(path)
-    if not p.is_file():
-        raise ModelError("mesh.file", str(path), "no such file")
-    ext = p.suffix.lower()
-    if ext == ".inp":
-        from .inp_file import read_inp
-        return read_inp(p)
-    if ext == ".msh":
-        from .msh_file import read_msh
-        return read_msh(p)
-    if ext in (".bdf", ".dat", ".nas", ".blk"):
-        from .bdf_file import read_bdf
-        return read_bdf(p)
-    raise ModelError("mesh.file", str(path), "unknown mesh format (.inp, .msh, .bdf)")

@@ -25,8 +25,7 @@ class MeshSets:
     stop: str | None = None
 
 
-def sets_from(value: Any) -> MeshSets | None:
-    from ..model import ModelError
+def sets_from(value: Any, ModelError) -> MeshSets | None:
     if value is None or isinstance(value, MeshSets):
         return value
     if not isinstance(value, dict):
@@ -47,8 +46,7 @@ def sets_from(value: Any) -> MeshSets | None:
     return MeshSets(**out)
 
 
-def axis_from(value: Any) -> tuple | None:
-    from ..model import ModelError, _num
+def axis_from(value: Any, ModelError, _num) -> tuple | None:
     if value is None or value == "z":
         return None
     if not isinstance(value, (list, tuple)) or len(value) != 6:
@@ -59,13 +57,13 @@ def axis_from(value: Any) -> tuple | None:
     return v
 
 
-def check_mesh_keys(spec) -> None:
-    """Validate and convert the import keys of a MeshSpec in place (called from its __post_init__)."""
-    from ..model import ModelError, _choice, _put, _text
+def check_mesh_keys(spec, ModelError, _num, _text, _choice, _put) -> None:
+    """Validate and convert the import keys of a MeshSpec in place (called from its __post_init__ with
+    the model's checkers: this module does not import the model)."""
     if spec.file is not None:
         _text("mesh.file", spec.file, max_len=400)
-    _put(spec, "sets", sets_from(spec.sets))
-    _put(spec, "axis", axis_from(spec.axis))
+    _put(spec, "sets", sets_from(spec.sets, ModelError))
+    _put(spec, "axis", axis_from(spec.axis, ModelError, _num))
     _choice("mesh.units", spec.units, tuple(MESH_UNITS))
     if spec.file is not None and spec.sets is None:
         raise ModelError("mesh.sets", None, "an imported mesh (mesh.file) needs sets {base, top}")
