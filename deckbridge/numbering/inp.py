@@ -21,7 +21,7 @@ import numpy as np
 
 from ..mesh import SkirtMesh, node_index
 from ..model import Model
-from .skirt import elem_ids, node_ids
+from .skirt import elem_ids, first_row_height, max_elem_id, max_node_id, mesh_node_ids
 
 FACE_BASE, FACE_TOP, FACE_OUTER, FACE_INNER = "S1", "S2", "S4", "S6"
 
@@ -88,11 +88,14 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
     g = model.geometry
     n_nodes, n_elems = mesh.n_nodes, mesh.hexes.shape[0]
     nt, nr, nz = mesh.n_theta, mesh.n_r, mesh.n_z
+    if mesh.node_ids is not None:   # imported mesh: ids after the user's largest
+        n_nodes, n_elems = max_node_id(mesh), max_elem_id(mesh)
     ref_node = n_nodes + 1
     next_node, next_elem = ref_node + 1, n_elems + 1
     t = g.thickness
     r_in, r_out = g.radius - t / 2, g.radius + t / 2
-    h1 = float(mesh.nodes[node_index(1, 0, 0, nr, nt), 2])   # first-row height at the inner face
+    h1 = (float(mesh.nodes[node_index(1, 0, 0, nr, nt), 2]) if mesh.node_ids is None   # first-row height
+          else first_row_height(mesh))
     table_master = stop_master = None
     if "table" in masters:
         table_master = ring([r_in - t, r_out + t], [-t, 0.0], nt, next_node, next_elem, FACE_TOP)
@@ -161,7 +164,7 @@ def ccx_gaps(model: Model, mesh: SkirtMesh, method: str, lay: Layout | None = No
     row = np.concatenate([np.arange(ss.nodes.size) for ss in sets] or [np.zeros(0, int)])
     n = row.size
     return GapIds(sets=sets, set_index=set_index.astype(int), row=row.astype(int),
-                  slave=np.concatenate([node_ids(ss.nodes) for ss in sets] or [np.zeros(0, np.int64)]),
+                  slave=np.concatenate([mesh_node_ids(mesh, ss.nodes) for ss in sets] or [np.zeros(0, np.int64)]),
                   surface=np.array([sets[k].surface for k in set_index.astype(int)], dtype=object),
                   ground=lay.next_node + np.arange(n), elem=lay.first_gap_elem + np.arange(n))
 

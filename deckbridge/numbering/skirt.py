@@ -20,6 +20,22 @@ def element_ids(n_elements: int) -> np.ndarray:
     return np.arange(1, n_elements + 1)
 
 
+def max_node_id(mesh) -> int:
+    """Largest skirt node id of ``mesh`` (= node count for the structured mesh)."""
+    return int(mesh.n_nodes if getattr(mesh, "node_ids", None) is None else mesh.node_ids.max())
+
+
+def max_elem_id(mesh) -> int:
+    """Largest skirt element id of ``mesh`` (= hexahedron count for the structured mesh)."""
+    return int(mesh.hexes.shape[0] if getattr(mesh, "elem_ids", None) is None else mesh.elem_ids.max())
+
+
+def first_row_height(mesh) -> float:
+    """Axial height of the first base element (edge 1-5 of the first table face's element) [m]."""
+    e = mesh.hexes[mesh.base_elems[0]]
+    return float(mesh.nodes[e[4], 2] - mesh.nodes[e[0], 2])
+
+
 def elem_ids(mesh, index) -> np.ndarray:
     """Deck element ids of hexahedron indices of ``mesh``: its user ids, or index + 1."""
     index = np.asarray(index, dtype=np.int64)

@@ -35,7 +35,7 @@ from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from ..numbering.inp import ccx_ground_node_ids
-from ..numbering.skirt import node_ids
+from ..numbering.skirt import mesh_node_ids
 from ._files import read_text
 from ._registry import register
 
@@ -95,7 +95,7 @@ def _slaves_from_model(model) -> Slaves:
     mesh = build_mesh(model)
     sets = mesh.slave_sets
     cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
-    return Slaves(node=cat(lambda s: node_ids(s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
+    return Slaves(node=cat(lambda s: mesh_node_ids(mesh, s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
                   theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),
                   area=cat(lambda s: s.area), normal=np.vstack([s.normal for s in sets]),
                   clearance=cat(lambda s: s.clearance))

@@ -25,6 +25,7 @@ import numpy as np
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.inp import layout
+from ..numbering.skirt import mesh_node_ids
 from ._env import deck_paths, render
 from .inp_cards import element_lines, face_lines, node_block, real, shared_context
 
@@ -34,25 +35,25 @@ INC_LIMIT = 1000   # *STEP, INC= (upper bound; DIRECT takes exactly the given in
 def context(model: Model, mesh: SkirtMesh) -> dict:
     lay = layout(model, mesh, masters=("table", "stop"))
     rings = [r for r in (lay.table_master, lay.stop_master) if r is not None]
-    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table),
+    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table, mesh),
               "master": face_lines(lay.table_master.elem_ids, lay.table_master.face)}]
     if lay.stop_master is not None:
-        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop),
+        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop, mesh),
                       "master": face_lines(lay.stop_master.elem_ids, lay.stop_master.face)})
     mu = model.contact.friction
     return {
         **shared_context(model, lay, INC_LIMIT),
         **node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                      [("NMASTER", np.concatenate([r.node_ids for r in rings]),
-                       np.vstack([r.nodes for r in rings]))]),
+                       np.vstack([r.nodes for r in rings]))], mesh.node_ids),
         "master_elems": "\n".join(element_lines(r.elem_ids, r.conn) for r in rings),
         "pairs": pairs, "friction": real(mu), "lagrange_friction": mu > 0,
     }
 
 
-def _node_surface(ss) -> str:
+def _node_surface(ss, ss_mesh) -> str:
     """``node, tributary area`` data lines of a node-based slave surface."""
-    return "\n".join(f"{int(n) + 1}, {real(a)}" for n, a in zip(ss.nodes, ss.area))
+    return "\n".join(f"{int(n)}, {real(a)}" for n, a in zip(mesh_node_ids(ss_mesh, ss.nodes), ss.area))
 
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:

@@ -37,6 +37,7 @@ from ..errors import DeckbridgeError
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.inp import GapIds, Layout, ccx_gaps, ccx_layout
+from ..numbering.skirt import mesh_node_ids
 from ._env import deck_paths, render
 from .inp_cards import element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
@@ -73,8 +74,9 @@ def _meta_lines(model: Model, mesh: SkirtMesh, method: str) -> list[str]:
     for ss in (mesh.table, mesh.stop):
         if ss is None:
             continue
+        ids = mesh_node_ids(mesh, ss.nodes)
         for i in range(ss.nodes.size):
-            lines.append(f"** deckbridge-slave {ss.nodes[i] + 1} {ss.surface} {real(ss.theta_deg[i])} "
+            lines.append(f"** deckbridge-slave {ids[i]} {ss.surface} {real(ss.theta_deg[i])} "
                          f"{real(ss.r[i])} {real(ss.z[i])} {real(ss.area[i])} {reals(ss.normal[i])} "
                          f"{real(ss.clearance[i])}".replace(",", ""))
     return lines
@@ -111,7 +113,7 @@ def penalty_context(model: Model, mesh: SkirtMesh) -> dict:
     lay = ccx_layout(model, mesh, "penalty")
     ctx = _common(model, lay, "penalty")
     ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "penalty", lay), lambda ss: ss.k))
-    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"]]))
+    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"]], mesh.node_ids))
     return ctx
 
 
@@ -132,7 +134,7 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
                mortar_factor=real(MORTAR_FACTOR), h1=real(lay.first_row_height))
     ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "mortar", lay), lambda ss: km * ss.area))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
-                          [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]]))
+                          [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]], mesh.node_ids))
     return ctx
 
 

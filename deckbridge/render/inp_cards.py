@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model import Model
 from ..numbering.inp import Layout
-from ..numbering.skirt import element_ids
+from ..numbering.skirt import elem_ids, mesh_node_ids
 
 PER_LINE = 8   # ids per data line of *NSET / *ELSET (both codes accept up to 16)
 
@@ -42,15 +42,17 @@ def node_lines(ids, xyz) -> str:
     return "\n".join(f"{int(i)}, {real(p[0])}, {real(p[1])}, {real(p[2])}" for i, p in zip(ids, xyz))
 
 
-def node_block(mesh_nodes, ref_node: int, ref_xyz, groups) -> dict:
+def node_block(mesh_nodes, ref_node: int, ref_xyz, groups, skirt_ids=None) -> dict:
     """One ``*NODE`` block for the whole deck (meshio and others read only one) and its node sets.
 
-    ``groups``: (set name, ids, xyz) of the extra nodes after the skirt and the reference node.
+    ``groups``: (set name, ids, xyz) of the extra nodes after the skirt and the reference node;
+    ``skirt_ids``: the skirt's node ids (None: 1..n); NSKIRT is written only when they run 1..n.
     Returns ``nodes`` (data lines) and ``node_sets`` (name, first id, last id) for ``*NSET, GENERATE``.
     """
     n = mesh_nodes.shape[0]
-    lines = [node_lines(np.arange(1, n + 1), mesh_nodes), f"{ref_node}, {reals(ref_xyz)}"]
-    sets = [("NSKIRT", 1, n), ("NREF", ref_node, ref_node)]
+    ids = np.arange(1, n + 1) if skirt_ids is None else np.asarray(skirt_ids)
+    lines = [node_lines(ids, mesh_nodes), f"{ref_node}, {reals(ref_xyz)}"]
+    sets = ([("NSKIRT", 1, n)] if np.array_equal(ids, np.arange(1, n + 1)) else []) + [("NREF", ref_node, ref_node)]
     for name, ids, xyz in groups:
         if len(ids):
             lines.append(node_lines(ids, xyz))
@@ -97,15 +99,15 @@ def shared_context(model: Model, lay: Layout, inc_limit: int) -> dict:
     Step 1 applies N at the reference node; step 2 repeats N and adds lambda_max (T, M), as totals.
     """
     mesh, lv, s = lay.mesh, lay.loads, model.steps
-    springs = spring_groups(mesh.k_tangent, mesh.table.nodes + 1, lay.next_elem)
+    springs = spring_groups(mesh.k_tangent, mesh_node_ids(mesh, mesh.table.nodes), lay.next_elem)
     step2 = {1: lv["T_force"][0] * s.lambda_max, 2: lv["T_force"][1] * s.lambda_max, 3: lv["N_force"][2],
              4: lv["M_moment"][0] * s.lambda_max, 5: lv["M_moment"][1] * s.lambda_max}
     return {
         "title": model.title, "name": model.name,
-        "skirt_elems": element_lines(element_ids(mesh.hexes.shape[0]), mesh.hexes + 1),
+        "skirt_elems": element_lines(elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)),
         "ref_node": lay.ref_node,
-        "table_nodes": id_lines(mesh.table.nodes + 1),
-        "stop_nodes": id_lines(mesh.stop.nodes + 1) if mesh.stop is not None else "",
+        "table_nodes": id_lines(mesh_node_ids(mesh, mesh.table.nodes)),
+        "stop_nodes": id_lines(mesh_node_ids(mesh, mesh.stop.nodes)) if mesh.stop is not None else "",
         "top_faces": face_lines(lay.top_elems, "S2"),
         "springs": [{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]), "k_str": real(g["k"])}
                     for g in springs],

@@ -19,6 +19,7 @@ from ..errors import DeckbridgeError
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.nastran import clean_xyz, gap_layout, numbering
+from ..numbering.skirt import elem_ids, mesh_node_ids
 
 PID_SOLID = 1
 MID = 1
@@ -66,12 +67,14 @@ def grid_cards(mesh: SkirtMesh) -> list[str]:
     cd = np.zeros(mesh.n_nodes, int)
     cd[mesh.table.nodes] = CID_CYL
     xyz = clean_xyz(mesh.nodes)
-    return [card16(["GRID", i + 1, None, _f(x), _f(y), _f(z), int(cd[i]) or None])
+    ids = mesh_node_ids(mesh, np.arange(mesh.n_nodes))
+    return [card16(["GRID", int(ids[i]), None, _f(x), _f(y), _f(z), int(cd[i]) or None])
             for i, (x, y, z) in enumerate(xyz)]
 
 
 def hexa_cards(mesh: SkirtMesh) -> list[str]:
-    return [card8(["CHEXA", e + 1, PID_SOLID] + [int(n) + 1 for n in h]) for e, h in enumerate(mesh.hexes)]
+    eids, conn = elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)
+    return [card8(["CHEXA", int(e), PID_SOLID] + [int(n) for n in h]) for e, h in zip(eids, conn)]
 
 
 def material_cards(model: Model) -> list[str]:
@@ -155,21 +158,21 @@ def circumferential_spring_cards(mesh: SkirtMesh, grounded: bool = True) -> list
     lay = gap_layout(mesh)
     ground = dict(zip(lay.node[lay.surface == "table"].tolist(), lay.ground[lay.surface == "table"].tolist()))
     cards = []
-    for i, (n, k) in enumerate(zip(mesh.table.nodes, mesh.k_tangent)):
-        tail = [] if grounded else [ground[int(n) + 1], COMP_THETA]
-        cards.append(card16(["CELAS2", base + i, _f(k), int(n) + 1, COMP_THETA] + tail))
+    for i, (n, k) in enumerate(zip(mesh_node_ids(mesh, mesh.table.nodes), mesh.k_tangent)):
+        tail = [] if grounded else [ground[int(n)], COMP_THETA]
+        cards.append(card16(["CELAS2", base + i, _f(k), int(n), COMP_THETA] + tail))
     return cards
 
 
 def _weight_groups(nodes: np.ndarray, weights: np.ndarray) -> list[tuple[float, list[int]]]:
-    """Top nodes grouped by equal weight (equal to 1e-10 relative), in order of first appearance."""
+    """Top nodes (deck ids) grouped by equal weight (equal to 1e-10 relative), in order of first appearance."""
     key = np.round(weights / weights.max(), 10)
     groups: dict[float, list[int]] = {}
     for k, n in zip(key.tolist(), nodes.tolist()):
-        groups.setdefault(k, []).append(int(n) + 1)
+        groups.setdefault(k, []).append(int(n))
     out = []
     for k, ids in groups.items():
-        w = float(np.mean(weights[np.isin(nodes + 1, ids)]))
+        w = float(np.mean(weights[np.isin(nodes, ids)]))
         out.append((w, ids))
     return out
 
@@ -180,11 +183,11 @@ def coupling_cards(mesh: SkirtMesh, model: Model, kind: str | None = None) -> li
     kind = kind or model.load_introduction
     if kind == "distributing":
         fields = ["RBE3", num.rigid_eid, None, num.ref_node, 123456]
-        for w, ids in _weight_groups(mesh.top_nodes, mesh.top_weights):
+        for w, ids in _weight_groups(mesh_node_ids(mesh, mesh.top_nodes), mesh.top_weights):
             fields += [w, 123] + ids
         return [card16(fields)]
     if kind == "kinematic":
-        return [card8(["RBE2", num.rigid_eid, num.ref_node, 123456] + [int(n) + 1 for n in mesh.top_nodes])]
+        return [card8(["RBE2", num.rigid_eid, num.ref_node, 123456] + [int(n) for n in mesh_node_ids(mesh, mesh.top_nodes)])]
     raise DeckbridgeError(f"load_introduction = {kind!r}: unknown")
 
 
