@@ -70,3 +70,50 @@ def test_default_jar_written_out_and_imported_back_gives_the_same_sigma(tmp_path
         assert len(j) == len(ref)
         scale = np.abs(j.sigma_n_pa_r).max()
         assert np.abs(j.sigma_n_pa_r - j.sigma_n_pa_i).max() <= 1e-9 * scale, name
+
+
+def test_renumbered_mesh_decks_carry_the_user_ids(tmp_path):
+    from pyNastran.bdf.bdf import BDF
+
+    from deckbridge.readers.inp_mesh import read_inp_mesh
+    from deckbridge.render import render_all
+
+    small = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1"]
+    me = build_mesh(load(None, small))
+    rng = np.random.default_rng(7)
+    nid = rng.permutation(me.n_nodes) * 5 + 70001
+    eid = rng.permutation(me.hexes.shape[0]) * 2 + 901
+    f = _export(me, tmp_path / "r.inp", nid, eid, rng.permutation(me.n_nodes), rng.permutation(me.hexes.shape[0]))
+    m = load(None, small + [f"mesh.file={f}", "mesh.sets={base: BASE, top: TOP}", "name=RENUM"])
+    render_all(m, tmp_path / "decks")
+    want = {int(e): set(nid[h].tolist()) for e, h in zip(eid, me.hexes)}   # element id -> its node ids
+    for deck in ("RENUM_lagrange.inp", "RENUM_ccx_penalty.inp", "RENUM_ccx_lagrange.inp"):
+        got = read_inp_mesh(tmp_path / "decks" / deck)
+        ids, conn = got.elements["C3D8I"]
+        assert {int(e): set(c.tolist()) for e, c in zip(ids, conn)} == want, deck
+        assert set(nid.tolist()) <= set(got.node_ids.tolist())
+    for deck in ("RENUM_penalty.bdf", "RENUM_mystran.bdf"):
+        bdf = BDF(debug=None)
+        bdf.read_bdf(str(tmp_path / "decks" / deck), xref=False)
+        hexa = {e: set(el.node_ids) for e, el in bdf.elements.items() if el.type == "CHEXA"}
+        assert hexa == want, deck
+        for i in rng.choice(me.n_nodes, 20):   # the user's node at its own place
+            np.testing.assert_allclose(bdf.nodes[int(nid[i])].xyz, me.nodes[i], atol=1e-12)
+
+
+def test_imported_gmsh_mesh_reference_matches_ccx_penalty(tmp_path):
+    """The whole job on an imported mesh: ccx reads back through the user ids (kinematic top)."""
+    from deckbridge.job import run_job
+    from deckbridge.readers import read
+
+    g = gmsh_skirt(tmp_path / "mesh", n_theta=24, n_z=6)
+    m = load(None, [f"mesh.file={g['inp']}", "mesh.sets={base: BASE, top: TOP}", "load_introduction=kinematic"])
+    run_job(m, tmp_path / "run", with_ccx=True, echo=lambda s: None)
+    ref = read(tmp_path / "run" / "reference_penalty", model=m)
+    ccx = read(tmp_path / "run" / "ccx", model=m)
+    ccx = ccx[ccx.method == "penalty"]
+    j = ref[ref.surface == "table"].merge(ccx[ccx.surface == "table"], on=["step", "increment", "node"],
+                                          suffixes=("_r", "_c"))
+    assert len(j) == 11 * 48 and set(j.node) <= set(g["node_ids"].tolist())
+    for _, s in j.groupby(["step", "increment"]):
+        assert np.abs(s.sigma_n_pa_r - s.sigma_n_pa_c).max() < 0.02 * np.abs(s.sigma_n_pa_r).max()

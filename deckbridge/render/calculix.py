@@ -37,7 +37,7 @@ from ..errors import DeckbridgeError
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.inp import GapIds, Layout, ccx_gaps, ccx_layout
-from ..numbering.skirt import mesh_node_ids
+from ..numbering.skirt import mesh_node_ids, mesh_node_index
 from ._env import deck_paths, render
 from .inp_cards import element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
@@ -99,7 +99,7 @@ def _gaps(model: Model, mesh: SkirtMesh, gap_ids: GapIds, k_of) -> dict:
                      # 10 digits: the line must stay within ccx's 132 characters
                      "line": f"{real(ss.clearance[i], 10)}, {reals(-ss.normal[i], 10)}, , {real(k[s_i][i], 10)}, "
                              f"{real(mesh.k_open_ratio * ss.k[i] * t, 10)}"})
-    ground_xyz = mesh.nodes[gap_ids.slave - 1]
+    ground_xyz = mesh.nodes[mesh_node_index(mesh, gap_ids.slave)]
     return {"ground": ("NGROUND", np.asarray(gap_ids.ground, int), np.array(ground_xyz, float).reshape(-1, 3)),
             "gaps": gaps,
             "gap_elems": id_lines([g["id"] for g in gaps])}
