@@ -3,4 +3,4 @@
 from ._common import main  # noqa: F401
 
 # Command modules: importing one registers its command(s) on ``main``.
-from . import compare_cmd, decks_cmd, init_cmd, run_cmd, solve_cmd, studies_cmd  # noqa: F401,E402
+from . import compare_cmd, decks_cmd, import_cmd, init_cmd, run_cmd, solve_cmd, studies_cmd  # noqa: F401,E402
