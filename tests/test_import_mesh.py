@@ -117,3 +117,35 @@ def test_imported_gmsh_mesh_reference_matches_ccx_penalty(tmp_path):
     assert len(j) == 11 * 48 and set(j.node) <= set(g["node_ids"].tolist())
     for _, s in j.groupby(["step", "increment"]):
         assert np.abs(s.sigma_n_pa_r - s.sigma_n_pa_c).max() < 0.02 * np.abs(s.sigma_n_pa_r).max()
+
+
+def test_units_axis_cp_frames_and_id_list_files_give_the_same_sigma(tmp_path):
+    """The same small mesh in mm, shifted off the origin (mesh.axis), with GRIDs in a cylindrical CP
+    frame and sets as node-id list files (.bdf): sigma_N identical to the plain import."""
+    small = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", "contact.stop.side=none"]
+    me = build_mesh(load(None, small))
+    nid, eid = np.arange(1, me.n_nodes + 1), np.arange(1, me.hexes.shape[0] + 1)
+    plain = _export(me, tmp_path / "plain.inp", nid, eid, np.arange(me.n_nodes), np.arange(len(eid)))
+    ref, _ = solve_model(load(None, small + [f"mesh.file={plain}", "mesh.sets={base: BASE, top: TOP}"]),
+                         "penalty", recover=False)
+    o = np.array([3.0, -2.0, 5.0])
+    shifted = write_inp(tmp_path / "mm.inp", nid, (me.nodes + o) * 1000.0, eid, nid[me.hexes],
+                        {"BASE": nid[me.table.nodes], "TOP": nid[me.top_nodes]})
+    m = load(None, small + [f"mesh.file={shifted}", "mesh.sets={base: BASE, top: TOP}", "mesh.units=mm",
+                            f"mesh.axis=[{o[0] * 1000}, {o[1] * 1000}, {o[2] * 1000}, 0, 0, 1]"])
+    got, _ = solve_model(m, "penalty", recover=False)
+    # mm, a 6 m offset or cylindrical coordinates cost round-off: measured <= 2.8e-8 of the peak (3 of 576 rows)
+    np.testing.assert_allclose(got.sigma_n_pa, ref.sigma_n_pa, rtol=0, atol=1e-7 * np.abs(ref.sigma_n_pa).max())
+    # Nastran: GRIDs in a cylindrical frame (CORD2C about z), sets as node-id list files
+    r = np.hypot(me.nodes[:, 0], me.nodes[:, 1])
+    th = np.degrees(np.arctan2(me.nodes[:, 1], me.nodes[:, 0]))
+    lines = ["SOL 101", "CEND", "BEGIN BULK", "CORD2C,7,,0.,0.,0.,0.,0.,1.", ",1.,0.,0."]
+    lines += [f"GRID*,{i},7,{a!r},{b!r}\n*,{c!r}" for i, a, b, c in zip(nid, r, th, me.nodes[:, 2])]
+    lines += [f"CHEXA,{e},1,{','.join(map(str, c[:6]))}\n,{c[6]},{c[7]}" for e, c in zip(eid, nid[me.hexes])]
+    lines += ["PSOLID,1,1", "MAT1,1,2.1e11,,0.3", "ENDDATA"]
+    (tmp_path / "cyl.bdf").write_text("\n".join(lines) + "\n")
+    (tmp_path / "base.txt").write_text("\n".join(map(str, nid[me.table.nodes])))
+    (tmp_path / "top.txt").write_text(" ".join(map(str, nid[me.top_nodes])))
+    m = load(None, small + [f"mesh.file={tmp_path / 'cyl.bdf'}", "mesh.sets={base: base.txt, top: top.txt}"])
+    got, _ = solve_model(m, "penalty", recover=False)
+    np.testing.assert_allclose(got.sigma_n_pa, ref.sigma_n_pa, rtol=0, atol=1e-7 * np.abs(ref.sigma_n_pa).max())

@@ -64,11 +64,12 @@ def orient(nodes: np.ndarray, hexes: np.ndarray) -> np.ndarray:
 
 
 def _to_skirt_frame(xyz: np.ndarray, axis) -> np.ndarray:
+    """File coordinates [m] -> skirt frame: origin on the axis at ``axis[:3]``, z along ``axis[3:]``."""
     if axis is None:
         return xyz
     o, d = np.array(axis[:3]), np.array(axis[3:]) / np.linalg.norm(axis[3:])
     a = np.array([1.0, 0, 0]) if abs(d[0]) < 0.9 else np.array([0, 1.0, 0])
-    e1 = np.cross(a, d)
+    e1 = a - (a @ d) * d        # azimuth 0 along the file's +x projected on the base plane (+y if x ~ axis)
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(d, e1)
     return (xyz - o) @ np.stack([e1, e2, d], axis=1)
