@@ -8,7 +8,8 @@ every 360/count deg; ``radial`` (optional) limits them to ``{inner: r_i, outer: 
 The pads are meshed on element boundaries: a base face belongs to a pad when its centre lies inside
 the pad's angular window (and radial band). Pad edges are thus snapped to the azimuthal grid; the
 contact area is that of the selected faces (:func:`pad_face_mask`), and a pad narrower than one
-element is refused rather than silently lost.
+element is refused rather than silently lost. Radially, a face is on the band when the mean radius of
+its corners is.
 """
 
 from __future__ import annotations
@@ -83,7 +84,7 @@ def pad_face_mask(pads: Pads | None, face_xyz: np.ndarray, dtheta_deg: float, Mo
                          f"narrower than one element ({dtheta_deg:g} deg): refine mesh.n_theta")
     c = face_xyz.mean(axis=1)
     th = azimuth_deg(c[:, 0], c[:, 1])
-    r = np.hypot(c[:, 0], c[:, 1])
+    r = np.hypot(face_xyz[:, :, 0], face_xyz[:, :, 1]).mean(axis=1)   # mean corner radius (not the chord's)
     on = np.zeros(nf, bool)
     half = pads.width_deg / 2 * (1 + 1e-9)
     for centre in pads.centres_deg:

@@ -98,3 +98,27 @@ def test_pads_liftoff_reference_lagrange_matches_ccx_mortar(tmp_path):
     assert lam_ref == pytest.approx(lam_ccx, rel=0.02)
     assert _liftoff_estimate(ref) == pytest.approx(lam_ref, rel=0.005)
     print("pads liftoff: reference", lam_ref, "ccx mortar (extrapolated)", lam_ccx)
+
+
+def test_radial_band_keeps_the_outer_element_row_only():
+    m = load(None, ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=2",
+                    "contact.pads={count: 2, width_deg: 30, radial: {inner: 1.5, outer: 1.6}}"])
+    me = build_mesh(m)
+    assert me.table.r.min() == pytest.approx(1.5) and me.table.r.max() == pytest.approx(1.51)
+    g = m.geometry
+    # the outer element row only: its faces' area (a 24-gon annulus between R and R + t/2) per face
+    poly_row = 0.5 * 24 * np.sin(2 * np.pi / 24) * ((g.radius + g.thickness / 2) ** 2 - g.radius ** 2) / 24
+    assert me.table.area.sum() == pytest.approx(poly_row * me.base_elems.size, rel=1e-12)
+
+
+def test_pads_on_an_imported_mesh_select_the_same_faces(tmp_path):
+    from gmsh_skirt import write_inp
+    small = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", "contact.pads={count: 3, width_deg: 40, first_deg: 90}"]
+    me = build_mesh(load(None, small))
+    nid = np.arange(1, me.n_nodes + 1)
+    full = build_mesh(load(None, small[:3]))
+    f = write_inp(tmp_path / "m.inp", nid, me.nodes, np.arange(1, me.hexes.shape[0] + 1), nid[me.hexes],
+                  {"BASE": nid[full.table.nodes], "TOP": nid[full.top_nodes]})
+    imp = build_mesh(load(None, small + [f"mesh.file={f}", "mesh.sets={base: BASE, top: TOP}"]))
+    np.testing.assert_array_equal(imp.table.nodes, me.table.nodes)
+    np.testing.assert_allclose(imp.table.k, me.table.k, rtol=1e-12)
