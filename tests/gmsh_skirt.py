@@ -9,8 +9,9 @@ import numpy as np
 
 
 def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
-    """Mesh the tube R -+ t/2, 0 <= z <= H with Gmsh: revolve a transfinite quad 4 x 90 deg with layers,
-    extrude... returns dict of paths {'msh', 'inp', 'bdf'} and the arrays (node ids, xyz, hex conn)."""
+    """Mesh the tube R -+ t/2, 0 <= z <= H [m] with Gmsh: a transfinite, recombined (r, z) rectangle
+    revolved about z in four 90 deg quarters with n_theta/4 layers each, duplicates merged. Returns the
+    paths {'msh', 'inp', 'bdf'} and Gmsh's arrays (node ids, xyz, element ids, hexahedra, sets)."""
     import gmsh
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -18,28 +19,28 @@ def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("skirt")
-        occ = gmsh.model.geo
-        p = [occ.addPoint(R - t / 2, 0, 0), occ.addPoint(R + t / 2, 0, 0),
-             occ.addPoint(R + t / 2, 0, H), occ.addPoint(R - t / 2, 0, H)]
-        lines = [occ.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
-        loop = occ.addCurveLoop(lines)
-        surf = occ.addPlaneSurface([loop])
+        geo = gmsh.model.geo
+        p = [geo.addPoint(R - t / 2, 0, 0), geo.addPoint(R + t / 2, 0, 0),
+             geo.addPoint(R + t / 2, 0, H), geo.addPoint(R - t / 2, 0, H)]
+        lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
+        loop = geo.addCurveLoop(lines)
+        surf = geo.addPlaneSurface([loop])
         for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
-            occ.mesh.setTransfiniteCurve(ln, n + 1)
-        occ.mesh.setTransfiniteSurface(surf)
-        occ.mesh.setRecombine(2, surf)
+            geo.mesh.setTransfiniteCurve(ln, n + 1)
+        geo.mesh.setTransfiniteSurface(surf)
+        geo.mesh.setRecombine(2, surf)
         vols, bottoms, tops = [], [], []
         cur = (2, surf)
         for q in range(4):   # revolve in 4 quarters (one revolution of 360 deg is not allowed)
-            out = occ.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
+            out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
             vols.append(out[1][1])
             # the lateral surfaces from lines[0] (bottom) and lines[2] (top)
             bottoms.append(out[2][1])
             tops.append(out[4][1])
             cur = out[0]
-        occ.synchronize()
+        geo.synchronize()
         gmsh.model.geo.removeAllDuplicates()
-        occ.synchronize()
+        geo.synchronize()
         gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
         gmsh.model.addPhysicalGroup(2, bottoms, name="BASE")
         gmsh.model.addPhysicalGroup(2, tops, name="TOP")
