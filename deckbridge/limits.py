@@ -21,6 +21,7 @@ ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
 MAX_K_FACTORS = 100
 MAX_CASES = 2000             # cases of one study (mesh variants x (k-factors + 1))
 MAX_MESH_VARIANTS = 50
+MAX_GRID_CASES = 200          # grid points of one study (product of the --grid values)
 MAX_WORKERS_PER_CORE = 4
 MAX_LOAD_FACTORS = 100
 TOL_REL_MIN = 1e-9           # liftoff --tol >= TOL_REL_MIN x lambda_max: the bisection then stops
