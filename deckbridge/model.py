@@ -464,7 +464,6 @@ def load(path: str | Path | None = None, overrides: list[str] | Mapping[str, Any
     model = loads_model(text, source)
     if overrides:
         model = model.with_overrides(overrides)
-    if path is not None:
-        from .importers.spec import resolve_file
-        model = resolve_file(model, Path(path).parent)
+    from .importers.spec import resolve_file   # mesh.file: relative to the model file, checked
+    model = resolve_file(model, Path(path).parent if path is not None else Path.cwd())
     return model

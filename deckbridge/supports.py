@@ -51,7 +51,7 @@ def pads_from(value: Any, ModelError, _int, _num) -> Pads | None:
             raise ModelError(f"contact.pads.{key}", value[key], "unknown key")
     if "count" not in value or "width_deg" not in value:
         raise ModelError("contact.pads", value, "needs count and width_deg")
-    count = _int("contact.pads.count", value["count"], ge=1)
+    count = _int("contact.pads.count", value["count"], ge=1, le=10**4)   # issue 13: bounded before any work
     width = _num("contact.pads.width_deg", value["width_deg"], gt=0)
     if count * width >= 360.0:
         raise ModelError("contact.pads.width_deg", value["width_deg"],

@@ -4,6 +4,7 @@ file (name = a path relative to the mesh file: ids separated by blanks, commas o
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
@@ -14,7 +15,8 @@ from .raw import RawMesh
 
 def read_bdf(path: Path) -> RawMesh:
     from pyNastran.bdf.bdf import BDF
-    from ..model import ModelError
+    from ..errors import ModelError
+    check_includes(path)
     bdf = BDF(debug=None, log=None, mode="msc")
     try:
         bdf.read_bdf(str(path), xref=True, punch=_is_punch(path), validate=False)
@@ -40,9 +42,24 @@ def _is_punch(path: Path) -> bool:
     return "BEGIN BULK" not in head and "SOL " not in head and "CEND" not in head
 
 
-def node_list_file(mesh_path: str, name: str) -> np.ndarray | None:
-    """Node ids of the list file ``name`` next to the mesh, None when there is no such file."""
-    p = Path(mesh_path).parent / name
-    if not p.is_file():
+def node_list_file(mesh_path: str, name: str, key: str = "mesh.sets") -> np.ndarray | None:
+    """Node ids of the list file ``name`` in the mesh's folder (or below), None when there is no such file."""
+    from ..errors import ModelError
+    from .spec import MAX_LIST_BYTES, check_file, inside_folder
+    if not os.path.lexists(Path(mesh_path).parent / name):
         return None
-    return np.array([int(v) for v in re.split(r"[\s,]+", p.read_text()) if v], np.int64)
+    p = inside_folder(key, Path(mesh_path).parent, name)
+    check_file(key, p, MAX_LIST_BYTES)
+    text = p.read_text(errors="replace")
+    try:
+        return np.array([int(v) for v in re.split(r"[\s,]+", text) if v], np.int64)
+    except ValueError:
+        raise ModelError(key, name, "a node-id list file holds integers separated by blanks, commas or "
+                         "new lines") from None
+
+
+def check_includes(path: Path) -> None:
+    """Refuse INCLUDEs of a .bdf that lead outside the mesh file's folder (pyNastran would follow them)."""
+    from .spec import inside_folder
+    for m in re.finditer(r"(?im)^\s*INCLUDE\s+'([^']*)'", Path(path).read_text(errors="replace")):
+        inside_folder("mesh.file", Path(path).parent, m.group(1).strip())

@@ -55,7 +55,7 @@ def set_nodes(raw, sets, role: str, index_of: dict) -> np.ndarray:
     name = getattr(sets, role)
     ids = raw.sets.get(name)
     if ids is None:
-        ids = node_list_file(raw.path, name)
+        ids = node_list_file(raw.path, name, f"mesh.sets.{role}")
     if ids is None:
         found = ", ".join(sorted(raw.sets)) or "none"
         raise ModelError(f"mesh.sets.{role}", name, f"no such node set in {raw.path} (found: {found})")

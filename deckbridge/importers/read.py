@@ -13,9 +13,9 @@ from .raw import RawMesh
 def read_mesh_file(path: str | Path) -> RawMesh:
     """Read ``path`` by its extension: .inp (Abaqus/CalculiX), .msh (Gmsh), .bdf/.dat/.nas (Nastran)."""
     from ..model import ModelError
+    from .spec import MAX_MESH_BYTES, check_file
     p = Path(path)
-    if not p.is_file():
-        raise ModelError("mesh.file", str(path), "no such file")
+    check_file("mesh.file", p, MAX_MESH_BYTES)   # also for models not read by model.load
     ext = p.suffix.lower()
     if ext == ".inp":
         return read_inp(p)

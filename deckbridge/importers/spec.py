@@ -6,15 +6,25 @@ top (the reference node is created at the top centre), optionally the radial-sto
 ``.bdf`` a set is a SET1 id or a file of node ids (one or more per line). ``units``: ``m`` or ``mm``
 (the mesh's length unit; the model stays SI). ``axis``: ``[x0, y0, z0, dx, dy, dz]``, the skirt axis
 (default z through the origin), pointing from the base to the top.
+
+Files (issue 13's rules for the model file, applied to the mesh): ``mesh.file`` is taken relative to the
+model file's folder (the working folder for the default model), must be a regular file (not a folder,
+device, pipe or socket), not empty and at most :data:`MAX_MESH_BYTES`; its text has no control characters.
+Nothing beyond the file the user names is read from outside its folder: node-id list files and a
+``.bdf``'s INCLUDEs must lie in the mesh file's folder or below (:func:`inside_folder`).
 """
 
 from __future__ import annotations
 
+import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 MESH_UNITS = {"m": 1.0, "mm": 1.0e-3}
+MAX_MESH_BYTES = 1 << 30        # 1 GiB of mesh text (~10^7 nodes); the memory check then bounds the solve
+MAX_LIST_BYTES = 64 << 20       # a node-id list file
 
 
 @dataclass(frozen=True)
@@ -62,6 +72,8 @@ def check_mesh_keys(spec, ModelError, _num, _text, _choice, _put) -> None:
     the model's checkers: this module does not import the model)."""
     if spec.file is not None:
         _text("mesh.file", spec.file, max_len=400)
+        if not spec.file.strip() or any(ord(c) < 0x20 or 0x7F <= ord(c) < 0xA0 for c in spec.file):
+            raise ModelError("mesh.file", spec.file, "must be a file name without control characters")
     _put(spec, "sets", sets_from(spec.sets, ModelError))
     _put(spec, "axis", axis_from(spec.axis, ModelError, _num))
     _choice("mesh.units", spec.units, tuple(MESH_UNITS))
@@ -70,8 +82,40 @@ def check_mesh_keys(spec, ModelError, _num, _text, _choice, _put) -> None:
 
 
 def resolve_file(model, model_dir: Path):
-    """The model with ``mesh.file`` made absolute against the model file's folder."""
+    """The model with ``mesh.file`` made absolute against ``model_dir`` (the model file's folder) and
+    checked by :func:`check_file`."""
     f = model.mesh.file
-    if f is None or Path(f).is_absolute():
+    if f is None:
         return model
-    return model.with_overrides({"mesh.file": str((Path(model_dir) / f).resolve())})
+    p = Path(f) if Path(f).is_absolute() else Path(model_dir) / f
+    p = Path(os.path.abspath(p))
+    check_file("mesh.file", p, MAX_MESH_BYTES)
+    return model if str(p) == f else model.with_overrides({"mesh.file": str(p)})
+
+
+def check_file(key: str, path: Path, max_bytes: int) -> None:
+    """One-line ModelError naming ``key`` unless ``path`` is a regular, non-empty file of at most
+    ``max_bytes`` (the model file's rules, :func:`deckbridge.safe_yaml.read_model_text`)."""
+    from ..errors import ModelError
+    try:
+        st = os.stat(path)
+    except OSError as exc:
+        raise ModelError(key, str(path), f"cannot read file ({exc.strerror})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ModelError(key, str(path), "is a folder, not a mesh file")
+    if not stat.S_ISREG(st.st_mode):
+        raise ModelError(key, str(path), "not a regular file (device, pipe or socket)")
+    if st.st_size == 0:
+        raise ModelError(key, str(path), "is empty")
+    if st.st_size > max_bytes:
+        raise ModelError(key, str(path), f"{st.st_size} bytes: at most {max_bytes} bytes")
+
+
+def inside_folder(key: str, folder: Path, name: str) -> Path:
+    """``name`` (relative) resolved in ``folder``; a ModelError when it is absolute or leads outside it."""
+    from ..errors import ModelError
+    base = Path(os.path.realpath(folder))
+    p = Path(os.path.realpath(base / name))
+    if Path(name).is_absolute() or not p.is_relative_to(base):
+        raise ModelError(key, name, f"must be a file in the mesh file's folder {str(base)!r} or below")
+    return p
