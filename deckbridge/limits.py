@@ -1,6 +1,7 @@
 """Ceilings checked from the model and the options before any work is done (nothing is allocated).
 
 Memory of a solve, estimated from the structured mesh alone: dof = 3 x n_theta x (n_z + 1) x (n_r + 1)
+(an imported mesh, ``mesh.file``: 3 x its node count, the file read once for it)
 and bytes = BASE_BYTES + BYTES_PER_DOF x dof, a line above the peak resident memory measured for the
 reference solver (README: 0.25 GB at 20k dof, 0.96 GB at 100k, 3.8 GB at 400k, 10.5 GB at 1M dof).
 A model whose estimate exceeds the memory available now (psutil when installed, else /proc/meminfo
@@ -65,13 +66,17 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
     """
     m = model.mesh
     n = dofs(m.n_theta, m.n_z, m.n_r)
+    if getattr(m, "file", None) is not None:   # an imported mesh: 3 dof per node of the file (read once here)
+        from .importers.read import read_mesh_file
+        n = 3 * int(read_mesh_file(m.file).node_ids.size)
     need = copies * estimate_bytes(n)
     if allow_large or allow_large_from_env():
         return need
     have = available_bytes()
     if have is not None and need > have:
         each = f" ({copies} at once)" if copies > 1 else ""
-        raise InputError(f"mesh {m.n_theta}x{m.n_z}x{m.n_r}{what}: {n:,} dofs need about {need / 1e9:.3g} GB{each}, "
+        name = m.file if getattr(m, "file", None) is not None else f"{m.n_theta}x{m.n_z}x{m.n_r}"
+        raise InputError(f"mesh {name}{what}: {n:,} dofs need about {need / 1e9:.3g} GB{each}, "
                          f"{have / 1e9:.3g} GB available: use a coarser mesh, or --allow-large "
                          f"(or {ALLOW_ENV}=1) to try anyway")
     return need

@@ -8,16 +8,14 @@ so nodes 1-4 (base face, counter-clockwise seen from +z) then 5-8 above them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import cached_property
-
 import numpy as np
 
 from .azimuth import azimuth_deg  # noqa: F401 (re-exported: mesh.azimuth_deg)
-from .model import Model
+from .model import Model, ModelError
+from .supports import pad_face_mask
 
-_G = 1.0 / np.sqrt(3.0)
-_GAUSS2 = np.array([-_G, _G])
+from .mesh_data import (ContactRows, SkirtMesh, SlaveSet, _slave_set, hex_volumes,  # noqa: F401 (re-exported)
+                        quad_nodal_areas)
 
 
 def node_index(k: np.ndarray | int, i: np.ndarray | int, j: np.ndarray | int, n_r: int, n_theta: int):
@@ -25,128 +23,11 @@ def node_index(k: np.ndarray | int, i: np.ndarray | int, j: np.ndarray | int, n_
     return (np.asarray(k) * (n_r + 1) + np.asarray(i)) * n_theta + np.mod(j, n_theta)
 
 
-def quad_nodal_areas(xyz: np.ndarray) -> np.ndarray:
-    """Consistent nodal shares of bilinear quad areas: int N_a dA, shape (nf, 4) [m^2].
-
-    ``xyz`` has shape (nf, 4, 3), corners in cyclic order.
-    """
-    out = np.zeros(xyz.shape[:2])
-    for s in _GAUSS2:
-        for t in _GAUSS2:
-            n = 0.25 * np.array([(1 - s) * (1 - t), (1 + s) * (1 - t), (1 + s) * (1 + t), (1 - s) * (1 + t)])
-            dns = 0.25 * np.array([-(1 - t), (1 - t), (1 + t), -(1 + t)])
-            dnt = 0.25 * np.array([-(1 - s), -(1 + s), (1 + s), (1 - s)])
-            a = np.einsum("a,fad->fd", dns, xyz)
-            b = np.einsum("a,fad->fd", dnt, xyz)
-            jac = np.linalg.norm(np.cross(a, b), axis=1)
-            out += jac[:, None] * n[None, :]
-    return out
-
-
-def hex_volumes(xyz: np.ndarray) -> np.ndarray:
-    """Volumes of trilinear hexahedra, ``xyz`` shape (ne, 8, 3) in C3D8 order [m^3]."""
-    sg = np.array([-1, 1, 1, -1, -1, 1, 1, -1], float)
-    tg = np.array([-1, -1, 1, 1, -1, -1, 1, 1], float)
-    ug = np.array([-1, -1, -1, -1, 1, 1, 1, 1], float)
-    vol = np.zeros(xyz.shape[0])
-    for s in _GAUSS2:
-        for t in _GAUSS2:
-            for u in _GAUSS2:
-                d = np.stack([sg * (1 + tg * t) * (1 + ug * u),
-                              tg * (1 + sg * s) * (1 + ug * u),
-                              ug * (1 + sg * s) * (1 + tg * t)]) / 8.0  # (3, 8)
-                jac = np.einsum("ca,ead->ecd", d, xyz)
-                vol += np.linalg.det(jac)
-    return vol
-
-
-@dataclass(frozen=True)
-class SlaveSet:
-    """Slave nodes of one master surface.
-
-    ``normal`` is the unit outward normal of the master (pointing into the skirt) at each node;
-    a gap opens when the node moves along it. ``area`` is the tributary contact area [m^2],
-    ``k`` the closed penalty stiffness per node [N/m] (k_c = alpha A^2 K / V unless explicit).
-    """
-    surface: str
-    nodes: np.ndarray
-    theta_deg: np.ndarray
-    r: np.ndarray
-    z: np.ndarray
-    area: np.ndarray
-    k: np.ndarray
-    normal: np.ndarray
-    clearance: np.ndarray
-
-
-@dataclass(frozen=True)
-class ContactRows:
-    """Every contact row of the mesh in solver order: the table's slave nodes, then the stop's (if any).
-
-    Row arrays: ``nodes`` (0-based), ``normals`` (n, 3), ``area`` [m^2], ``k`` [N/m], ``clearance`` [m],
-    ``surface`` ('table' | 'stop'), ``theta`` [deg, 0..360), ``z`` [m], ``r`` [m].
-    """
-    nodes: np.ndarray
-    normals: np.ndarray
-    area: np.ndarray
-    k: np.ndarray
-    clearance: np.ndarray
-    surface: np.ndarray
-    theta: np.ndarray
-    z: np.ndarray
-    r: np.ndarray
-
-    @classmethod
-    def of(cls, sets: list[SlaveSet]) -> "ContactRows":
-        cat = lambda name: np.concatenate([getattr(s, name) for s in sets])  # noqa: E731
-        return cls(nodes=cat("nodes"), normals=cat("normal"), area=cat("area"), k=cat("k"),
-                   clearance=cat("clearance"),
-                   surface=np.concatenate([[s.surface] * s.nodes.size for s in sets]),
-                   theta=cat("theta_deg"), z=cat("z"), r=cat("r"))
-
-    @property
-    def size(self) -> int:
-        return int(self.nodes.size)
-
-
-@dataclass(frozen=True)
-class SkirtMesh:
-    """The skirt's hexahedral mesh with the contact and load-introduction data derived from the model."""
-    nodes: np.ndarray          # (n, 3) [m]
-    hexes: np.ndarray          # (m, 8) 0-based node indices
-    table: SlaveSet            # base ring on the table plane z = 0
-    stop: SlaveSet | None      # base-ring nodes on the stop face, None when contact.stop.side = none
-    k_tangent: np.ndarray      # circumferential restraint per table slave node [N/m]
-    k_open_ratio: float        # open-gap stiffness / closed stiffness
-    top_nodes: np.ndarray      # nodes of the loaded top face
-    top_weights: np.ndarray    # their tributary areas on the top face (RBE3 / distributing weights) [m^2]
-    ref_point: np.ndarray      # reference node position, top centre [m]
-    n_theta: int
-    n_r: int
-    n_z: int
-
-    @property
-    def n_nodes(self) -> int:
-        return self.nodes.shape[0]
-
-    @property
-    def slave_sets(self) -> list[SlaveSet]:
-        """The slave sets in contact-row order: table, then stop when there is one."""
-        return [self.table] + ([self.stop] if self.stop is not None else [])
-
-    @cached_property
-    def contact_rows(self) -> ContactRows:
-        """The one contact-row table (table rows, then stop rows) that the solver and the readers use."""
-        return ContactRows.of(self.slave_sets)
-
-    @cached_property
-    def theta_deg(self) -> np.ndarray:
-        """Azimuth of every node in [0, 360) degrees."""
-        return azimuth_deg(self.nodes[:, 0], self.nodes[:, 1])
-
-
 def build_mesh(model: Model) -> SkirtMesh:
     """Mesh the skirt of ``model`` and derive slave sets, penalties and load-introduction weights."""
+    if model.mesh.file is not None:   # the analyst's own mesh (deckbridge/importers)
+        from .importers.general import imported_mesh
+        return imported_mesh(model)
     g, ms = model.geometry, model.mesh
     nt, nr, nz = ms.n_theta, ms.n_r, ms.n_z
     theta = 2.0 * np.pi * np.arange(nt) / nt
@@ -173,17 +54,19 @@ def build_mesh(model: Model) -> SkirtMesh:
 
     # --- table: base faces (nodes 1-4) of the first element row ------------------------------
     base = k == 0
-    faces = hexes[base][:, :4]
+    on_pad = pad_face_mask(model.contact.pads, nodes[hexes[base][:, :4]], 360.0 / nt, ModelError)
+    base_elems = np.flatnonzero(base)[on_pad]
+    faces = hexes[base_elems][:, :4]
     a_nodes = quad_nodal_areas(nodes[faces])                  # (nf, 4)
     a_face = a_nodes.sum(axis=1)
-    kc_share = pen.alpha * kbulk * a_face[:, None] * a_nodes / vol[base][:, None]
-    table_nodes = node_index(0, np.arange(nr + 1)[:, None], np.arange(nt)[None, :], nr, nt).ravel()
+    kc_share = pen.alpha * kbulk * a_face[:, None] * a_nodes / vol[base_elems][:, None]
+    table_nodes = np.unique(faces)      # = every base-ring node, ascending, without pads
     table = _slave_set("table", nodes, table_nodes, faces, a_nodes, kc_share, pen.k_normal,
                        normal=np.tile([0.0, 0.0, 1.0], (table_nodes.size, 1)),
                        clearance=np.zeros(table_nodes.size))
 
     # --- radial stop: the wall face of the first element row, bottom nodes only ----------------
-    stop = None
+    stop, stop_elems = None, np.zeros(0, np.int64)
     side = model.contact.stop.side
     if side != "none":
         if side == "inner":   # face nodes 1, 4, 8, 5 (i = 0); stop resists inward motion
@@ -191,6 +74,7 @@ def build_mesh(model: Model) -> SkirtMesh:
         else:                 # face nodes 2, 3, 7, 6 (i = n_r - 1 side, outer); resists outward motion
             fcols, iw, sign = [1, 2, 6, 5], nr, -1.0
         row = base & (i == (0 if side == "inner" else nr - 1))
+        stop_elems = np.flatnonzero(row)
         sfaces = hexes[row][:, fcols]
         sa = quad_nodal_areas(nodes[sfaces])
         sa[:, 2:] = 0.0   # only the two base nodes of each face are slaves
@@ -205,7 +89,6 @@ def build_mesh(model: Model) -> SkirtMesh:
         else:
             clearance = (r_face - r_stop) if side == "inner" else (r_stop - r_face)
             if np.any(clearance < -1e-12):
-                from .model import ModelError
                 raise ModelError("contact.stop.radius", r_stop,
                                  f"penetrates the {side} wall face (radius {r_face[0]:.6g} m)")
             clearance = np.maximum(clearance, 0.0)
@@ -222,19 +105,5 @@ def build_mesh(model: Model) -> SkirtMesh:
     np.add.at(w, tfaces.ravel(), ta.ravel())
     return SkirtMesh(nodes=nodes, hexes=hexes, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=w[top_nodes],
-                     ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz)
-
-
-def _slave_set(surface, nodes, slave_nodes, faces, a_nodes, k_share, k_explicit, normal, clearance):
-    n = nodes.shape[0]
-    area = np.zeros(n)
-    kk = np.zeros(n)
-    np.add.at(area, faces.ravel(), a_nodes.ravel())
-    np.add.at(kk, faces.ravel(), k_share.ravel())
-    a = area[slave_nodes]
-    kc = kk[slave_nodes] if k_explicit is None else np.full(slave_nodes.size, float(k_explicit))
-    xyz = nodes[slave_nodes]
-    th = azimuth_deg(xyz[:, 0], xyz[:, 1])
-    return SlaveSet(surface=surface, nodes=slave_nodes, theta_deg=th, r=np.hypot(xyz[:, 0], xyz[:, 1]),
-                    z=xyz[:, 2], area=a, k=kc, normal=np.asarray(normal, float),
-                    clearance=np.asarray(clearance, float))
+                     ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz,
+                     base_elems=base_elems, top_elems=np.flatnonzero(top), stop_elems=stop_elems)

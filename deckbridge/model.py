@@ -131,11 +131,17 @@ class MeshSpec:
     n_theta: int = 72
     n_z: int = 30
     n_r: int = 2
+    file: str | None = None   # imported mesh (issue 15, deckbridge/importers/spec.py): file, sets, units, axis
+    sets: Any = None
+    units: str = "m"
+    axis: Any = None
 
     def __post_init__(self):
         _put(self, "n_theta", _int("mesh.n_theta", self.n_theta, ge=8, le=10**7))
         _put(self, "n_z", _int("mesh.n_z", self.n_z, ge=1, le=10**7))
         _put(self, "n_r", _int("mesh.n_r", self.n_r, ge=1, le=10**4))
+        from .importers.spec import check_mesh_keys
+        check_mesh_keys(self, ModelError, _num, _text, _choice, _put)
 
 
 @dataclass(frozen=True)
@@ -214,6 +220,7 @@ class Contact:
     penalty: Penalty = field(default_factory=Penalty)
     friction: float = 0.0
     tangential: str = "springs"
+    pads: Any = None   # null = continuous ring; else deckbridge.supports.Pads (issue 15)
 
     def __post_init__(self):
         _put(self, "friction", _num("contact.friction", self.friction, ge=0))
@@ -221,6 +228,8 @@ class Contact:
         if self.tangential == "friction" and self.friction <= 0:
             raise ModelError("contact.friction", self.friction,
                              "must be > 0 with contact.tangential = friction (nothing else carries the shear)")
+        from .supports import pads_from
+        _put(self, "pads", pads_from(self.pads, ModelError, _int, _num))
 
 
 @dataclass(frozen=True)
@@ -455,4 +464,6 @@ def load(path: str | Path | None = None, overrides: list[str] | Mapping[str, Any
     model = loads_model(text, source)
     if overrides:
         model = model.with_overrides(overrides)
+    from .importers.spec import resolve_file   # mesh.file: relative to the model file, checked
+    model = resolve_file(model, Path(path).parent if path is not None else Path.cwd())
     return model

@@ -30,7 +30,7 @@ import numpy as np
 from reference_solver.recover import path_fields, states_stress
 
 from .mesh import SkirtMesh
-from .numbering.skirt import element_ids, node_ids
+from .numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
 
 VOIGT = "xx yy zz xy yz zx"
 SURFACES = ("table", "stop")
@@ -50,7 +50,7 @@ def state_label(step: int, increment: int, load_factor: float) -> str:
 def mesh_data(mesh: SkirtMesh) -> tuple[dict, dict]:
     """Point and cell data that every state shares: ids, named-set masks, tributary areas [m^2]."""
     n, ne = mesh.n_nodes, mesh.hexes.shape[0]
-    point: dict = {"node_id": node_ids(np.arange(n)).astype(np.int64)}
+    point: dict = {"node_id": mesh_node_ids(mesh, np.arange(n)).astype(np.int64)}
     for s in mesh.slave_sets:
         mask = np.zeros(n, np.uint8)
         mask[s.nodes] = 1
@@ -62,8 +62,8 @@ def mesh_data(mesh: SkirtMesh) -> tuple[dict, dict]:
     top[mesh.top_nodes] = 1
     point["top_ring"] = top
     bottom = np.zeros(ne, np.uint8)
-    bottom[: mesh.n_theta * mesh.n_r] = 1                # element index = (k n_r + i) n_theta + j, k = 0
-    cell = {"element_id": element_ids(ne).astype(np.int64), "bottom_row": bottom}
+    bottom[bottom_row_index(mesh)] = 1
+    cell = {"element_id": elem_ids(mesh, np.arange(ne)).astype(np.int64), "bottom_row": bottom}
     return point, cell
 
 

@@ -28,6 +28,7 @@ import pandas as pd
 
 from .errors import DeckbridgeError
 from .mesh import build_mesh
+from .numbering.skirt import mesh_node_ids
 from .outdir import staged
 from .paraview import contact_data, mesh_data, state_label, write_states
 from .readers import read
@@ -36,9 +37,12 @@ from .readers.calculix import _frd_blocks
 LF_TOL = 1e-6   # relative agreement of the reader's load factor with the .frd time of the same increment
 
 
-def _frd_states(frd: Path, n_nodes: int) -> list[dict]:
-    """Per ccx increment with a DISP block, in time order: step, inc, time, u (n, 3), stress or None."""
+def _frd_states(frd: Path, mesh) -> list[dict]:
+    """Per ccx increment with a DISP block, in time order: step, inc, time, u (n, 3), stress or None.
+    Rows in mesh node order; the .frd's node ids are the deck's (the user's ids of an imported mesh)."""
     _, blocks = _frd_blocks(frd)
+    n_nodes = mesh.n_nodes
+    index_of = dict(zip(mesh_node_ids(mesh, np.arange(n_nodes)).tolist(), range(n_nodes)))
     states: dict[tuple[int, int], dict] = {}
     for b in blocks:
         if b["name"] not in ("DISP", "STRESS"):
@@ -47,8 +51,9 @@ def _frd_states(frd: Path, n_nodes: int) -> list[dict]:
                                                       "u": None, "stress": None})
         a = np.zeros((n_nodes, 3 if b["name"] == "DISP" else 6))
         for node, v in b["values"].items():
-            if 1 <= node <= n_nodes:
-                a[node - 1] = v[: a.shape[1]]
+            i = index_of.get(node)
+            if i is not None:
+                a[i] = v[: a.shape[1]]
         st["u" if b["name"] == "DISP" else "stress"] = a
     out = sorted((s for s in states.values() if s["u"] is not None), key=lambda s: s["time"])
     if not out:
@@ -66,12 +71,12 @@ def write_ccx_series(job_path: str | Path, model, outdir: str | Path) -> list[Pa
     mesh = build_mesh(model)
     table: pd.DataFrame = read(frd, fmt="calculix", model=model)
     rows = mesh.contact_rows
-    key = pd.Series(np.arange(rows.size), index=pd.MultiIndex.from_arrays([rows.nodes + 1, rows.surface]))
+    key = pd.Series(np.arange(rows.size), index=pd.MultiIndex.from_arrays([mesh_node_ids(mesh, rows.nodes), rows.surface]))
     groups = {k: g for k, g in table.groupby(["step", "increment"])}
     base_point, base_cell = mesh_data(mesh)
     lam = model.steps.lambda_max
     states, times, count = [], [], {}
-    for fs in _frd_states(frd, mesh.n_nodes):
+    for fs in _frd_states(frd, mesh):
         count[fs["step"]] = count.get(fs["step"], 0) + 1
         lf = 0.0 if fs["step"] == 1 else lam * (fs["time"] - (fs["step"] - 1))
         g = groups.get((fs["step"], count[fs["step"]]))

@@ -27,6 +27,7 @@ from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
 from .model import Model
 from .outdir import staged
+from .numbering.skirt import mesh_node_ids
 from .paraview import write_reference_series
 from .results import conform, with_forces
 from .tangent_springs import follow_springs
@@ -145,7 +146,7 @@ def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFr
     til = lambda a: np.tile(a, ni)    # noqa: E731
     df = with_forces(pd.DataFrame({
         "source": SOURCE, "method": sol.method, "step": rep(sol.step), "increment": rep(sol.increment),
-        "load_factor": rep(sol.load_factor), "node": til(p.contact_nodes + 1),
+        "load_factor": rep(sol.load_factor), "node": til(mesh_node_ids(mesh, p.contact_nodes)),
         "surface": til(p.contact_surface), "theta_deg": til(wrap_deg(rows.theta)),
         "z": til(rows.z), "r": til(rows.r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": sol.gap.ravel(),
         "status": np.where(sol.closed.ravel(), "closed", "open"),

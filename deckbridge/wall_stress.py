@@ -23,6 +23,7 @@ from reference_solver.stress import reference_base_wall
 
 from .azimuth import snap_deg
 from .errors import DeckbridgeError
+from .numbering.skirt import bottom_row_index
 
 WALL_CSV = "wall_stress.csv"
 WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa", "szz_outer_pa",
@@ -32,7 +33,7 @@ WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa",
 def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.DataFrame:
     """Wall table of every state of a reference solution (one recovery solve for all of them)."""
     U = system.recover(sol.u, sol.coeffs)
-    bottom = np.arange(mesh.n_r * mesh.n_theta)
+    bottom = bottom_row_index(mesh)
     frames = []
     for i in range(sol.step.size):
         bw = reference_base_wall(system.problem, U[i], bottom)

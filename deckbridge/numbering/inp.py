@@ -21,7 +21,7 @@ import numpy as np
 
 from ..mesh import SkirtMesh, node_index
 from ..model import Model
-from .skirt import node_ids
+from .skirt import elem_ids, first_row_height, max_elem_id, max_node_id, mesh_node_ids
 
 FACE_BASE, FACE_TOP, FACE_OUTER, FACE_INNER = "S1", "S2", "S4", "S6"
 
@@ -88,11 +88,14 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
     g = model.geometry
     n_nodes, n_elems = mesh.n_nodes, mesh.hexes.shape[0]
     nt, nr, nz = mesh.n_theta, mesh.n_r, mesh.n_z
+    if mesh.node_ids is not None:   # imported mesh: ids after the user's largest
+        n_nodes, n_elems = max_node_id(mesh), max_elem_id(mesh)
     ref_node = n_nodes + 1
     next_node, next_elem = ref_node + 1, n_elems + 1
     t = g.thickness
     r_in, r_out = g.radius - t / 2, g.radius + t / 2
-    h1 = float(mesh.nodes[node_index(1, 0, 0, nr, nt), 2])   # first-row height at the inner face
+    h1 = (float(mesh.nodes[node_index(1, 0, 0, nr, nt), 2]) if mesh.node_ids is None   # first-row height
+          else first_row_height(mesh))
     table_master = stop_master = None
     if "table" in masters:
         table_master = ring([r_in - t, r_out + t], [-t, 0.0], nt, next_node, next_elem, FACE_TOP)
@@ -117,6 +120,9 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
     else:
         stop_elems, stop_face = j + 1, FACE_INNER
     top = np.concatenate([((nz - 1) * nr + i) * nt + j for i in range(nr)]) + 1
+    if mesh.base_elems is not None:   # the mesh's own face sets (pads, imported meshes)
+        base, top = elem_ids(mesh, mesh.base_elems), elem_ids(mesh, mesh.top_elems)
+        stop_elems = elem_ids(mesh, mesh.stop_elems)
     return Layout(model=model, mesh=mesh, ref_node=ref_node, ref_xyz=np.asarray(mesh.ref_point, float),
                   table_master=table_master, stop_master=stop_master, next_node=next_node,
                   next_elem=next_elem, base_elems=base, stop_elems=stop_elems, stop_face=stop_face,
@@ -169,7 +175,8 @@ class N2fGroup:
 
 def ccx_n2f_groups(mesh: SkirtMesh, rel: float = 1e-9) -> list[N2fGroup]:
     """Node-to-surface penalty groups of the CalculiX penalty deck: table groups first, then stop groups,
-    each sorted by slope; within a group the nodes in slave-set order."""
+    each sorted by slope; within a group the nodes by ascending deck id (ccx prints a node surface's contact
+    rows in that order; the structured mesh's slave-set order is the same, an imported mesh's need not be)."""
     a_ccx = ccx_node_slave_areas(mesh)
     out = []
     for ss in (mesh.table, mesh.stop):
@@ -183,9 +190,10 @@ def ccx_n2f_groups(mesh: SkirtMesh, rel: float = 1e-9) -> list[N2fGroup]:
                 groups[-1].append(int(i))
             else:
                 groups.append([int(i)])
+        ids = mesh_node_ids(mesh, ss.nodes)
         for n, g in enumerate(groups, start=1):
-            rows = np.array(sorted(g))
-            out.append(N2fGroup(name=f"{ss.surface.upper()}{n}", surface=ss.surface, nodes=node_ids(ss.nodes[rows]),
+            rows = np.array(sorted(g, key=lambda r: ids[r]))   # ascending node id: ccx's order of a node set
+            out.append(N2fGroup(name=f"{ss.surface.upper()}{n}", surface=ss.surface, nodes=ids[rows],
                                 slope=float(np.mean(slope[rows])), rows=rows))
     return out
 
@@ -220,7 +228,7 @@ def ccx_gaps(model: Model, mesh: SkirtMesh, method: str, lay: Layout | None = No
     row = np.concatenate([np.arange(ss.nodes.size) for ss in sets] or [np.zeros(0, int)])
     n = row.size
     return GapIds(sets=sets, set_index=set_index.astype(int), row=row.astype(int),
-                  slave=np.concatenate([node_ids(ss.nodes) for ss in sets] or [np.zeros(0, np.int64)]),
+                  slave=np.concatenate([mesh_node_ids(mesh, ss.nodes) for ss in sets] or [np.zeros(0, np.int64)]),
                   surface=np.array([sets[k].surface for k in set_index.astype(int)], dtype=object),
                   ground=lay.next_node + np.arange(n), elem=lay.first_gap_elem + np.arange(n))
 

@@ -23,16 +23,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mesh import SkirtMesh
-from .skirt import node_ids
+from .skirt import bottom_row_index, elem_ids, first_row_height, max_elem_id, max_node_id, mesh_node_ids
 
 
 SET_BOTTOM_ROW = 1   # case-control SET of the bottom-row CHEXAs (element stress output)
 
 
 def bottom_row_elements(mesh: SkirtMesh) -> np.ndarray:
-    """CHEXA ids of the first element row (z in [0, h]): the first n_theta * n_r elements, since the
-    element index is (k * n_r + i) * n_theta + j with k = 0 at the base (:mod:`deckbridge.mesh`)."""
-    return np.arange(1, mesh.n_theta * mesh.n_r + 1)
+    """CHEXA ids of the first element row (z in [0, h]): the first n_theta * n_r elements of the
+    structured mesh (:mod:`deckbridge.mesh`), the user's ids of an imported one (:mod:`.skirt`)."""
+    return elem_ids(mesh, bottom_row_index(mesh))
 
 
 def _offset(*counts: int) -> int:
@@ -88,12 +88,14 @@ class GapLayout:
 def numbering(mesh: SkirtMesh) -> Numbering:
     n_stop = 0 if mesh.stop is None else mesh.stop.nodes.size
     n_contact = mesh.table.nodes.size + n_stop
-    return Numbering(node_offset=_offset(mesh.n_nodes + n_contact),
-                     elem_offset=_offset(mesh.hexes.shape[0], n_contact))
+    return Numbering(node_offset=_offset(max_node_id(mesh) + n_contact),
+                     elem_offset=_offset(max_elem_id(mesh), n_contact))
 
 
 def ground_distance(mesh: SkirtMesh) -> float:
     """Distance of a grounded gap node from its slave node: height of the first element row [m]."""
+    if mesh.node_ids is not None:   # imported mesh
+        return first_row_height(mesh)
     n_ring = (mesh.n_r + 1) * mesh.n_theta
     return float(mesh.nodes[n_ring * 1, 2] - mesh.nodes[0, 2]) if mesh.n_nodes > n_ring else 1.0
 
@@ -111,11 +113,13 @@ def gap_layout(mesh: SkirtMesh) -> GapLayout:
     sets = mesh.slave_sets
     kt_of_node = dict(zip(mesh.table.nodes.tolist(), mesh.k_tangent.tolist()))
     d = ground_distance(mesh)
+    index = []
     cols: dict[str, list] = {k: [] for k in ("node", "surface", "axis", "k", "k_t", "u0", "area",
                                               "theta_deg", "r", "z")}
     for s in sets:
         n = s.nodes.size
-        cols["node"].append(node_ids(s.nodes))
+        cols["node"].append(mesh_node_ids(mesh, s.nodes))
+        index.append(s.nodes)
         cols["surface"].append(np.full(n, s.surface, dtype=object))
         cols["axis"].append(-np.asarray(s.normal, float))
         cols["k"].append(np.asarray(s.k, float))
@@ -125,6 +129,6 @@ def gap_layout(mesh: SkirtMesh) -> GapLayout:
             cols[key].append(np.asarray(getattr(s, key), float))
     c = {k: np.concatenate(v) for k, v in cols.items()}
     n = c["node"].size
-    ground_xyz = clean_xyz(mesh.nodes[c["node"] - 1] + d * c["axis"])
+    ground_xyz = clean_xyz(mesh.nodes[np.concatenate(index)] + d * c["axis"])
     return GapLayout(eid=num.elem_offset + 1 + np.arange(n), ground=num.node_offset + 1 + np.arange(n),
                      ground_xyz=ground_xyz, **c)

@@ -1,7 +1,8 @@
 """Deck node ids -> azimuth, radius, height and contact surface, through the neutral model.
 
 Shared by readers whose files name nodes but carry no coordinates (Abaqus .dat, plain CSV).
-Deck node ids are the skirt ids of :mod:`deckbridge.numbering.skirt` (mesh index + 1).
+Deck node ids are the skirt ids of :mod:`deckbridge.numbering.skirt` (the mesh's user ids; index + 1
+for the structured mesh).
 """
 
 from __future__ import annotations
@@ -15,21 +16,21 @@ from ..errors import DeckbridgeError
 from ..azimuth import azimuth_deg
 from ..mesh import build_mesh
 from ..model import Model
-from ..numbering.skirt import node_ids, node_index
+from ..numbering.skirt import mesh_node_ids, mesh_node_index
 
 
 @lru_cache(maxsize=8)
 def slave_nodes(model: Model) -> pd.DataFrame:
     """Slave nodes of ``model``: index = deck node id; columns theta_deg, r, z, table, stop (bool)."""
     mesh = build_mesh(model)
-    ids = node_ids(mesh.table.nodes)
+    ids = mesh_node_ids(mesh, mesh.table.nodes)
     in_stop = np.zeros(mesh.n_nodes, bool)
     if mesh.stop is not None:
         in_stop[mesh.stop.nodes] = True
-        ids = np.union1d(ids, node_ids(mesh.stop.nodes))
+        ids = np.union1d(ids, mesh_node_ids(mesh, mesh.stop.nodes))
     in_table = np.zeros(mesh.n_nodes, bool)
     in_table[mesh.table.nodes] = True
-    idx = node_index(ids)
+    idx = mesh_node_index(mesh, ids)
     xyz = mesh.nodes[idx]
     return pd.DataFrame({
         "theta_deg": azimuth_deg(xyz[:, 0], xyz[:, 1]),
@@ -72,7 +73,7 @@ def slave_areas(model: Model, nodes, surfaces) -> np.ndarray:
     out = np.full(len(nodes), np.nan)
     nodes, surfaces = np.asarray(nodes, np.int64), np.asarray(surfaces).astype(str)
     for s in mesh.slave_sets:
-        amap = pd.Series(s.area, index=node_ids(s.nodes))
+        amap = pd.Series(s.area, index=mesh_node_ids(mesh, s.nodes))
         rows = surfaces == s.surface
         out[rows] = amap.reindex(nodes[rows]).to_numpy(float)
     return out

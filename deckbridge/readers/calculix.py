@@ -38,6 +38,7 @@ from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from ..numbering.inp import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
+from ..numbering.skirt import mesh_node_index
 from ..units import scale
 from ._registry import register
 from .ccx_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
@@ -201,7 +202,8 @@ def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
         mesh = build_mesh(model)
         a_ccx = ccx_node_slave_areas(mesh)
         order = [(int(n), g.surface) for g in ccx_n2f_groups(mesh) for n in g.nodes]
-        area = {(n, f): float(a_ccx[n - 1]) for n, f in order}
+        idx = dict(zip((n for n, _ in order), mesh_node_index(mesh, [n for n, _ in order]).tolist()))
+        area = {(n, f): float(a_ccx[idx[n]]) for n, f in order}
     row_of = {(int(n), str(f)): i for i, (n, f) in enumerate(zip(sl.node, sl.surface))}
     if not contact:
         raise DeckbridgeError(f"{str(stem.with_suffix('.dat'))!r}: no contact stress block (*CONTACT PRINT CSTR) "

@@ -34,6 +34,7 @@ import pandas as pd
 from reference_solver.stress import CCX_TO_VOIGT, base_wall, extrapolate_to_corners, nodal_average
 
 from ..errors import DeckbridgeError
+from ..numbering.skirt import bottom_row_index, elem_ids
 
 COLUMNS = ["sxx", "syy", "szz", "sxy", "sxz", "syz"]     # ccx order, [Pa]
 N_IP = 8
@@ -137,10 +138,10 @@ def base_wall_table(stress: pd.DataFrame, mesh) -> pd.DataFrame:
     / thickness), szz_bending_pa ((outer - inner) / 2), tension > 0. Values are Gauss-point
     extrapolations (estimates).
     """
-    bottom = np.arange(mesh.n_r * mesh.n_theta)
+    bottom = bottom_row_index(mesh)   # imported mesh: the hexahedra standing on the base plane, user ids
     out = []
     for time, block in stress.groupby("time", sort=True):
-        avg, _ = nodal_average(corner_values(block, bottom + 1), mesh.hexes[bottom], mesh.n_nodes)
+        avg, _ = nodal_average(corner_values(block, elem_ids(mesh, bottom)), mesh.hexes[bottom], mesh.n_nodes)
         bw = base_wall(mesh.nodes, mesh.hexes[bottom], avg[:, 2], "z")
         out.append(pd.DataFrame({"time": time, "theta_deg": bw.theta_deg, "szz_inner_pa": bw.inner,
                                  "szz_outer_pa": bw.outer, "szz_mean_pa": bw.mean,

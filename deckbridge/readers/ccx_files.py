@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
-from ..numbering.skirt import node_ids
+from ..numbering.skirt import mesh_node_ids
 from ._files import read_text
 
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
@@ -42,7 +42,7 @@ def _slaves_from_model(model) -> Slaves:
     mesh = build_mesh(model)
     sets = mesh.slave_sets
     cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
-    return Slaves(node=cat(lambda s: node_ids(s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
+    return Slaves(node=cat(lambda s: mesh_node_ids(mesh, s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
                   theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),
                   area=cat(lambda s: s.area), normal=np.vstack([s.normal for s in sets]),
                   clearance=cat(lambda s: s.clearance))

@@ -27,6 +27,7 @@ import numpy as np
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.inp import layout
+from ..numbering.skirt import mesh_node_ids
 from ._env import deck_paths, render
 from ..units import scale
 from .inp_cards import element_lines, face_lines, node_block, real, shared_context
@@ -36,25 +37,26 @@ def context(model: Model, mesh: SkirtMesh) -> dict:
     u = scale(model.units)
     lay = layout(model, mesh, masters=("table", "stop"))
     rings = [r for r in (lay.table_master, lay.stop_master) if r is not None]
-    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table, u.length),
+    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table, mesh, u.length),
               "master": face_lines(lay.table_master.elem_ids, lay.table_master.face)}]
     if lay.stop_master is not None:
-        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop, u.length),
+        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop, mesh, u.length),
                       "master": face_lines(lay.stop_master.elem_ids, lay.stop_master.face)})
     mu = model.contact.friction
     return {
         **shared_context(model, lay),
         **node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                      [("NMASTER", np.concatenate([r.node_ids for r in rings]),
-                       np.vstack([r.nodes for r in rings]))], u.length),
+                       np.vstack([r.nodes for r in rings]))], u.length, mesh.node_ids),
         "master_elems": "\n".join(element_lines(r.elem_ids, r.conn) for r in rings),
         "pairs": pairs, "friction": real(mu), "lagrange_friction": mu > 0,
     }
 
 
-def _node_surface(ss, length: float = 1.0) -> str:
-    """``node, tributary area`` data lines of a node-based slave surface (area in deck units)."""
-    return "\n".join(f"{int(n) + 1}, {real(a * length ** 2)}" for n, a in zip(ss.nodes, ss.area))
+def _node_surface(ss, ss_mesh, length: float = 1.0) -> str:
+    """``node, tributary area`` data lines of a node-based slave surface (user node ids, area in deck units)."""
+    return "\n".join(f"{int(n)}, {real(a * length ** 2)}"
+                     for n, a in zip(mesh_node_ids(ss_mesh, ss.nodes), ss.area))
 
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:

@@ -38,6 +38,7 @@ from ..model import Model
 from ..numbering.inp import (GapIds, Layout, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas,
                              ccx_penalty_is_n2f)
 from ..units import scale
+from ..numbering.skirt import mesh_node_ids, mesh_node_index
 from ._env import deck_paths, render
 from .inp_cards import clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
@@ -91,8 +92,9 @@ def _meta_lines(model: Model, mesh: SkirtMesh, method: str) -> list[str]:
     for ss in (mesh.table, mesh.stop):
         if ss is None:
             continue
+        ids = mesh_node_ids(mesh, ss.nodes)
         for i in range(ss.nodes.size):
-            lines.append(f"** deckbridge-slave {ss.nodes[i] + 1} {ss.surface} {real(ss.theta_deg[i])} "
+            lines.append(f"** deckbridge-slave {ids[i]} {ss.surface} {real(ss.theta_deg[i])} "
                          f"{real(ss.r[i])} {real(ss.z[i])} {real(ss.area[i])} {reals(ss.normal[i])} "
                          f"{real(ss.clearance[i])}".replace(",", ""))
     return lines
@@ -117,7 +119,7 @@ def _gaps(model: Model, mesh: SkirtMesh, gap_ids: GapIds, k_of) -> dict:
                      "line": f"{real(ss.clearance[i] * u.length, 10)}, {reals(clean(-ss.normal[i]), 10)}, , "
                              f"{real(k[s_i][i] * u.stiffness, 10)}, "
                              f"{real(mesh.k_open_ratio * ss.k[i] * t * u.force, 10)}"})
-    ground_xyz = mesh.nodes[gap_ids.slave - 1]
+    ground_xyz = mesh.nodes[mesh_node_index(mesh, gap_ids.slave)]
     return {"ground": ("NGROUND", np.asarray(gap_ids.ground, int), np.array(ground_xyz, float).reshape(-1, 3)),
             "gaps": gaps,
             "gap_elems": id_lines([g["id"] for g in gaps])}
@@ -144,7 +146,8 @@ def _n2f(model: Model, mesh: SkirtMesh, lay: Layout) -> dict:
     meta = ["** deckbridge-n2f node surface area_ccx (m^2: ccx's area of the node-based slave node)"]
     for ss in (mesh.table, mesh.stop):
         if ss is not None:
-            meta += [f"** deckbridge-n2f {n + 1} {ss.surface} {real(a_ccx[n])}" for n in ss.nodes]
+            meta += [f"** deckbridge-n2f {i} {ss.surface} {real(a_ccx[n])}"
+                     for i, n in zip(mesh_node_ids(mesh, ss.nodes), ss.nodes)]
     rs = [r for r in rings.values() if r is not None]
     return {"masters": masters, "groups": groups, "n2f_meta": meta,
             "master_elems": "\n".join(element_lines(r.elem_ids, r.conn) for r in rs),
@@ -164,7 +167,7 @@ def penalty_context(model: Model, mesh: SkirtMesh) -> dict:
         ctx.update(extra)
         ctx["meta"] = ctx["meta"] + extra["n2f_meta"]
         groups = [extra["master_nodes"]]
-    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, groups, scale(model.units).length))
+    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, groups, scale(model.units).length, mesh.node_ids))
     return ctx
 
 
@@ -188,7 +191,7 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
                mortar_factor=real(MORTAR_FACTOR), h1=real(lay.first_row_height * u.length))
     ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "mortar", lay), lambda ss: km * ss.area))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
-                          [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]], u.length))
+                          [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]], u.length, mesh.node_ids))
     return ctx
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model import Model
 from ..numbering.inp import Layout
-from ..numbering.skirt import element_ids
+from ..numbering.skirt import elem_ids, mesh_node_ids
 from ..units import UNIT_LABEL, Units, scale
 
 PER_LINE = 8   # ids per data line of *NSET / *ELSET (both codes accept up to 16)
@@ -52,14 +52,16 @@ def node_lines(ids, xyz, length: float = 1.0) -> str:
     return "\n".join(f"{int(i)}, {real(p[0])}, {real(p[1])}, {real(p[2])}" for i, p in zip(ids, xyz))
 
 
-def node_block(mesh_nodes, ref_node: int, ref_xyz, groups, length: float = 1.0) -> dict:
+def node_block(mesh_nodes, ref_node: int, ref_xyz, groups, length: float = 1.0, skirt_ids=None) -> dict:
     """One ``*NODE`` block for the whole deck (meshio and others read only one) and its node sets.
 
-    ``groups``: (set name, ids, xyz) of the extra nodes after the skirt and the reference node.
+    ``groups``: (set name, ids, xyz) of the extra nodes after the skirt and the reference node;
+    ``skirt_ids``: the skirt's node ids (None: 1..n; an imported mesh: the user's ids, numbering/skirt.py).
     Returns ``nodes`` (data lines) and ``node_sets`` (name, first id, last id) for ``*NSET, GENERATE``.
     """
     n = mesh_nodes.shape[0]
-    lines = [node_lines(np.arange(1, n + 1), mesh_nodes, length), node_lines([ref_node], [ref_xyz], length)]
+    ids = np.arange(1, n + 1) if skirt_ids is None else np.asarray(skirt_ids)
+    lines = [node_lines(ids, mesh_nodes, length), node_lines([ref_node], [ref_xyz], length)]
     sets = []
     for name, ids, xyz in groups:
         if len(ids):
@@ -138,7 +140,7 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
     """
     mesh, lv, s = lay.mesh, lay.loads, model.steps
     u: Units = scale(model.units)
-    springs = spring_groups(mesh.k_tangent, mesh.table.nodes + 1, lay.next_elem)
+    springs = spring_groups(mesh.k_tangent, mesh_node_ids(mesh, mesh.table.nodes), lay.next_elem)
     f, m = u.force, u.moment
     step2 = {1: lv["T_force"][0] * s.lambda_max * f, 2: lv["T_force"][1] * s.lambda_max * f, 3: lv["N_force"][2] * f,
              4: lv["M_moment"][0] * s.lambda_max * m, 5: lv["M_moment"][1] * s.lambda_max * m}
@@ -149,10 +151,10 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
         "base_elems": id_lines(lay.base_elems), "time_points": time_points(model),
         "stiffness_note": stiffness_note(model, mesh),
         "title": model.title, "name": model.name,
-        "skirt_elems": element_lines(element_ids(mesh.hexes.shape[0]), mesh.hexes + 1),
+        "skirt_elems": element_lines(elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)),
         "ref_node": lay.ref_node,
-        "table_nodes": id_lines(mesh.table.nodes + 1),
-        "stop_nodes": id_lines(mesh.stop.nodes + 1) if mesh.stop is not None else "",
+        "table_nodes": id_lines(mesh_node_ids(mesh, mesh.table.nodes)),
+        "stop_nodes": id_lines(mesh_node_ids(mesh, mesh.stop.nodes)) if mesh.stop is not None else "",
         "top_faces": face_lines(lay.top_elems, "S2"),
         "springs": [{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]),
                      "k_str": real(g["k"] * u.stiffness)} for g in springs],

@@ -16,8 +16,7 @@ import numpy as np
 
 from ..mesh import SkirtMesh
 from ..model import Model
-from ..numbering.nastran import bottom_row_elements
-from ..numbering.skirt import element_ids, node_ids
+from ..numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
 from ..outdir import safe_filename
 
 SUFFIX = "_model.vtu"
@@ -34,12 +33,12 @@ def model_mesh(mesh: SkirtMesh):
 
     n_el = mesh.hexes.shape[0]
     bottom = np.zeros(n_el, np.int32)
-    bottom[bottom_row_elements(mesh) - 1] = 1
-    point = {"node_id": node_ids(np.arange(mesh.n_nodes)).astype(np.int32),
+    bottom[bottom_row_index(mesh)] = 1
+    point = {"node_id": mesh_node_ids(mesh, np.arange(mesh.n_nodes)).astype(np.int32),
              "table_slave": mask(mesh.table.nodes),
              "stop_slave": mask(mesh.stop.nodes if mesh.stop is not None else []),
              "top_ring": mask(mesh.top_nodes)}
-    cell = {"element_id": [element_ids(n_el).astype(np.int32)], "bottom_row": [bottom]}
+    cell = {"element_id": [elem_ids(mesh, np.arange(n_el)).astype(np.int32)], "bottom_row": [bottom]}
     return meshio.Mesh(np.asarray(mesh.nodes, float), [("hexahedron", np.asarray(mesh.hexes, np.int64))],
                        point_data=point, cell_data=cell)
 

@@ -25,6 +25,7 @@ from ..errors import DeckbridgeError
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.nastran import clean_xyz, gap_layout, numbering
+from ..numbering.skirt import elem_ids, mesh_node_ids
 from ..units import Units, scale
 
 PID_SOLID = 1
@@ -91,12 +92,14 @@ def add_model(b: Bulk, model: Model, mesh: SkirtMesh, u: Units, integ: int | Non
     b.put("material", bdf.add_mat1(MID, E=model.material.E * u.stress, G=None, nu=model.material.nu))
     cd = np.zeros(mesh.n_nodes, int)
     cd[mesh.table.nodes] = CID_CYL
+    ids = mesh_node_ids(mesh, np.arange(mesh.n_nodes))   # the user's ids (numbering/skirt.py)
     for i, xyz in enumerate(clean_xyz(mesh.nodes)):
-        b.put("grids", bdf.add_grid(i + 1, xyz=[float(c) * u.length for c in xyz], cp=0, cd=int(cd[i])))
+        b.put("grids", bdf.add_grid(int(ids[i]), xyz=[float(c) * u.length for c in xyz], cp=0, cd=int(cd[i])))
     num = numbering(mesh)
     b.put("ref_grid", bdf.add_grid(num.ref_node, xyz=clean(np.asarray(mesh.ref_point) * u.length), cp=0, cd=0))
-    for e, h in enumerate(mesh.hexes):
-        b.put("hexas", bdf.add_chexa(e + 1, pid=PID_SOLID, nids=[int(n) + 1 for n in h]))
+    eids, conn = elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)
+    for e, h in zip(eids, conn):
+        b.put("hexas", bdf.add_chexa(int(e), pid=PID_SOLID, nids=[int(n) for n in h]))
     lay = gap_layout(mesh)
     for g, xyz in zip(lay.ground, lay.ground_xyz):
         b.put("ground", bdf.add_grid(int(g), xyz=[float(c) * u.length for c in xyz], cp=0, cd=0))
@@ -149,18 +152,18 @@ def add_circumferential_springs(b: Bulk, mesh: SkirtMesh, u: Units, grounded: bo
     lay = gap_layout(mesh)
     tab = lay.surface == "table"
     ground = dict(zip(lay.node[tab].tolist(), lay.ground[tab].tolist()))
-    for i, (n, k) in enumerate(zip(mesh.table.nodes, mesh.k_tangent)):
-        nids, c2 = ([int(n) + 1, None], 0) if grounded else ([int(n) + 1, ground[int(n) + 1]], COMP_THETA)
+    for i, (n, k) in enumerate(zip(mesh_node_ids(mesh, mesh.table.nodes), mesh.k_tangent)):
+        nids, c2 = ([int(n), None], 0) if grounded else ([int(n), ground[int(n)]], COMP_THETA)
         b.put("springs", b.bdf.add_celas2(base + i, k=float(k) * u.stiffness, nids=nids, c1=COMP_THETA, c2=c2))
 
 
 def _weight_groups(nodes: np.ndarray, weights: np.ndarray) -> list[tuple[float, list[int]]]:
-    """Top nodes grouped by equal weight (equal to 1e-10 relative), in order of first appearance."""
+    """Top nodes (deck ids) grouped by equal weight (equal to 1e-10 relative), in order of first appearance."""
     key = np.round(weights / weights.max(), 10)
     groups: dict[float, list[int]] = {}
     for k, n in zip(key.tolist(), nodes.tolist()):
-        groups.setdefault(k, []).append(int(n) + 1)
-    return [(float(np.mean(weights[np.isin(nodes + 1, ids)])), ids) for ids in groups.values()]
+        groups.setdefault(k, []).append(int(n))
+    return [(float(np.mean(weights[np.isin(nodes, ids)])), ids) for ids in groups.values()]
 
 
 def add_coupling(b: Bulk, model: Model, mesh: SkirtMesh, u: Units) -> None:
@@ -169,13 +172,13 @@ def add_coupling(b: Bulk, model: Model, mesh: SkirtMesh, u: Units) -> None:
     num = numbering(mesh)
     kind = model.load_introduction
     if kind == "distributing":
-        groups = _weight_groups(mesh.top_nodes, mesh.top_weights)
+        groups = _weight_groups(mesh_node_ids(mesh, mesh.top_nodes), mesh.top_weights)
         b.put("coupling", b.bdf.add_rbe3(num.rigid_eid, refgrid=num.ref_node, refc="123456",
                                          weights=[w * u.length ** 2 for w, _ in groups],
                                          comps=["123"] * len(groups), Gijs=[ids for _, ids in groups]))
     elif kind == "kinematic":
         b.put("coupling", b.bdf.add_rbe2(num.rigid_eid, gn=num.ref_node, cm="123456",
-                                         Gmi=[int(n) + 1 for n in mesh.top_nodes]))
+                                         Gmi=[int(n) for n in mesh_node_ids(mesh, mesh.top_nodes)]))
     else:
         raise DeckbridgeError(f"load_introduction = {kind!r}: unknown")
 

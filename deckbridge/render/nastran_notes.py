@@ -54,5 +54,23 @@ def context(model: Model, mesh: SkirtMesh) -> dict:
         "below_guidance": f"{1e3 / float(np.median(ratio)):.0e}",
         "nlgeom": model.analysis.nlgeom, "n_top": int(mesh.top_nodes.size),
         "stress_set": SET_BOTTOM_ROW, "stress_first": int(rows[0]), "stress_last": int(rows[-1]),
-        "n_stress": int(rows.size),
+        "n_stress": int(rows.size), "stress_list": id_ranges(rows),
     }
+
+
+def id_ranges(ids, width: int = 64) -> str:
+    """Case-control SET members: ``a THRU b`` runs of consecutive ids, comma separated, lines of at
+    most ``width`` characters ending with a comma when continued (the user's ids of an imported mesh
+    need not be consecutive; the structured mesh's are one run)."""
+    ids = np.unique(np.asarray(ids, np.int64))
+    cut = np.flatnonzero(np.diff(ids) != 1) + 1
+    items = [f"{r[0]} THRU {r[-1]}" if r.size > 1 else f"{r[0]}" for r in np.split(ids, cut)]
+    lines, cur = [], ""
+    for it in items:
+        if cur and len(cur) + len(it) + 2 > width:
+            lines.append(cur + ",")
+            cur = it
+        else:
+            cur = f"{cur}, {it}" if cur else it
+    return "\n".join(lines + [cur])
+

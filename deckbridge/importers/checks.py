@@ -1,0 +1,123 @@
+"""Import checks: each raises a one-line ModelError naming the set (or the file) and the node/element."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .raw import HEX8
+
+LATER = "tetrahedral and quadratic meshes are a later issue (deckbridge takes 8-node hexahedra)"
+
+
+def hex8_only(raw, key: str = "mesh.file"):
+    """(element ids, connectivity of node ids) of the 8-node hexahedra; any other type is refused."""
+    from ..model import ModelError
+    other = {t: len(i) for t, (i, c) in raw.elements.items() if t.upper() not in HEX8 or c.shape[1] != 8}
+    if other:
+        t, n = next(iter(other.items()))
+        raise ModelError(key, raw.path, f"{n} elements of type {t}: {LATER}")
+    hexes = [(i, c) for t, (i, c) in raw.elements.items()]
+    if not hexes:
+        raise ModelError(key, raw.path, "no 8-node hexahedra in the file")
+    ids = np.concatenate([i for i, _ in hexes])
+    conn = np.vstack([c for _, c in hexes])
+    u, cnt = np.unique(ids, return_counts=True)
+    if (cnt > 1).any():
+        raise ModelError(key, raw.path, f"element {int(u[cnt > 1][0])} is defined twice")
+    return ids, conn
+
+
+def nodes_unique_and_used(raw, conn_ids: np.ndarray, size: float, key: str = "mesh.file") -> None:
+    """Duplicate node ids, coincident nodes (unmerged), nodes no element uses, elements on unknown nodes."""
+    from ..model import ModelError
+    u, cnt = np.unique(raw.node_ids, return_counts=True)
+    if (cnt > 1).any():
+        raise ModelError(key, raw.path, f"node {int(u[cnt > 1][0])} is defined twice")
+    unknown = np.setdiff1d(conn_ids, raw.node_ids)
+    if unknown.size:
+        raise ModelError(key, raw.path, f"an element uses node {int(unknown[0])}, which is not defined")
+    unused = np.setdiff1d(raw.node_ids, conn_ids)
+    if unused.size:
+        raise ModelError(key, raw.path, f"node {int(unused[0])} is used by no element (unreferenced node)")
+    q = np.round(np.asarray(raw.nodes) / (1e-9 * size)).astype(np.int64)
+    _, first, cnt = np.unique(q, axis=0, return_index=True, return_counts=True)
+    if (cnt > 1).any():
+        i = first[cnt > 1][0]
+        same = np.flatnonzero((q == q[i]).all(axis=1))
+        raise ModelError(key, raw.path, f"nodes {int(raw.node_ids[same[0]])} and {int(raw.node_ids[same[1]])} "
+                         "coincide (duplicate nodes: merge them)")
+
+
+def set_nodes(raw, sets, role: str, index_of: dict) -> np.ndarray:
+    """Node indices of set ``sets.<role>``; an unknown name lists the sets found."""
+    from ..model import ModelError
+    from .bdf_file import node_list_file
+    name = getattr(sets, role)
+    ids = raw.sets.get(name)
+    if ids is None:
+        ids = node_list_file(raw.path, name, f"mesh.sets.{role}")
+    if ids is None:
+        found = ", ".join(sorted(raw.sets)) or "none"
+        raise ModelError(f"mesh.sets.{role}", name, f"no such node set in {raw.path} (found: {found})")
+    missing = [int(i) for i in ids if int(i) not in index_of]
+    if missing:
+        raise ModelError(f"mesh.sets.{role}", name, f"node {missing[0]} is not a node of the mesh")
+    return np.array([index_of[int(i)] for i in ids], np.int64)
+
+
+def base_plane(nodes, base, top, node_ids, names, size: float) -> float:
+    """Base nodes on one plane z = z0 normal to the axis (tolerance 1e-6 of the model size); the top set
+    non-empty and above the base. Returns z0."""
+    from ..model import ModelError
+    tol = 1e-6 * size
+    if base.size == 0:
+        raise ModelError("mesh.sets.base", names.base, "is empty")
+    z0 = float(np.median(nodes[base, 2]))
+    off = np.abs(nodes[base, 2] - z0) > tol
+    if off.any():
+        i = base[off][0]
+        raise ModelError("mesh.sets.base", names.base, f"node {int(node_ids[i])} at axial position "
+                         f"{nodes[i, 2]:.6g} is off the base plane {z0:.6g} (tolerance {tol:.3g}): "
+                         "slave nodes must lie on one plane normal to the axis")
+    if top.size == 0:
+        raise ModelError("mesh.sets.top", names.top, "is empty")
+    low = nodes[top, 2] <= z0 + tol
+    if low.any():
+        i = top[low][0]
+        raise ModelError("mesh.sets.top", names.top, f"node {int(node_ids[i])} at axial position "
+                         f"{nodes[i, 2]:.6g} is not above the base plane {z0:.6g}")
+    return z0
+
+
+def not_inverted(nodes, hexes, elem_ids) -> None:
+    """Every hexahedron has a positive Jacobian at its 8 corners (C3D8 node order)."""
+    from ..model import ModelError
+    x = nodes[hexes]                                   # (m, 8, 3)
+    sg = np.array([-1, 1, 1, -1, -1, 1, 1, -1], float)
+    tg = np.array([-1, -1, 1, 1, -1, -1, 1, 1], float)
+    ug = np.array([-1, -1, -1, -1, 1, 1, 1, 1], float)
+    det = []
+    for s, t, u in zip(sg, tg, ug):                    # the Jacobian at each corner
+        d = np.stack([sg * (1 + tg * t) * (1 + ug * u), tg * (1 + sg * s) * (1 + ug * u),
+                      ug * (1 + sg * s) * (1 + tg * t)]) / 8.0
+        det.append(np.linalg.det(np.einsum("ca,ead->ecd", d, x)))
+    det = np.stack(det, axis=1)
+    bad = np.flatnonzero((det <= 0).any(axis=1))
+    if bad.size:
+        raise ModelError("mesh.file", "elements", f"element {int(elem_ids[bad[0]])} is inverted "
+                         "(negative Jacobian: node order)")
+
+
+def connected(n_nodes: int, hexes, node_ids) -> None:
+    """One connected body (elements sharing nodes)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from ..model import ModelError
+    r = np.repeat(hexes[:, :1], 7, axis=1).ravel()
+    c = hexes[:, 1:].ravel()
+    g = coo_matrix((np.ones(r.size), (r, c)), shape=(n_nodes, n_nodes))
+    n, lab = connected_components(g, directed=False)
+    if n > 1:
+        i = np.flatnonzero(lab != lab[hexes[0, 0]])[0]
+        raise ModelError("mesh.file", "connectivity", f"the mesh is not connected: {n} parts "
+                         f"(node {int(node_ids[i])} is not connected to node {int(node_ids[hexes[0, 0]])})")

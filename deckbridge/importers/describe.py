@@ -1,0 +1,61 @@
+"""The model of an imported mesh: geometry measured on the mesh, import keys, checked by meshing it.
+
+Geometry written into the model (used by beam theory, the master rings of the inp decks and the
+report): mid-wall radius = (r_min + r_max) / 2 and thickness = r_max - r_min of the base nodes, height
+= top plane - base plane, ``top_radius`` when the top's mid-wall radius differs (a cone) [m].
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+
+def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top: str, stop: str | None = None,
+                   units: str = "m", axis=None, name: str | None = None, overrides: list[str] | None = None):
+    """(model, YAML text) for ``mesh_path``; the YAML names the mesh relative to ``model_path``'s folder.
+
+    The mesh is read and checked (every import check) before anything is returned.
+    """
+    from ..mesh import build_mesh
+    from ..model import Model, apply_overrides
+    mesh_path, model_path = Path(mesh_path).resolve(), Path(model_path).resolve()
+    sets = {"base": base, "top": top, **({"stop": stop} if stop else {})}
+    data = Model().to_dict()
+    data["name"] = name or _name(mesh_path.stem)
+    data["title"] = f"imported mesh {mesh_path.name}"
+    data["mesh"].update({"file": str(mesh_path), "sets": sets, "units": units, "axis": axis})
+    data["contact"]["stop"]["side"] = "inner" if stop is None else data["contact"]["stop"]["side"]
+    model = Model.from_dict(apply_overrides(data, overrides or []))
+    mesh = build_mesh(model)          # every import check; geometry below from the checked mesh
+    r = np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])
+    rb, rt = r[mesh.table.nodes], r[mesh.top_nodes]
+    zt = float(np.mean(mesh.nodes[mesh.top_nodes, 2]))
+    rnd = lambda x: float(f"{x:.12g}")  # noqa: E731
+    geo = {"radius": rnd((rb.min() + rb.max()) / 2), "thickness": rnd(rb.max() - rb.min()), "height": rnd(zt),
+           "top_radius": None}
+    r_top = rnd((rt.min() + rt.max()) / 2)
+    if abs(r_top - geo["radius"]) > 1e-6 * geo["radius"]:
+        geo["top_radius"] = r_top
+    data = model.to_dict()
+    data["geometry"] = geo
+    data["mesh"]["file"] = os.path.relpath(mesh_path, model_path.parent)
+    data["mesh"].update(n_theta=mesh.n_theta, n_z=mesh.n_z, n_r=mesh.n_r)   # measured; informative only
+    model = Model.from_dict({**data, "mesh": {**data["mesh"], "file": str(mesh_path)}})
+    return model, _yaml(data)
+
+
+def _name(stem: str) -> str:
+    import re
+    s = re.sub(r"[^A-Za-z0-9_.-]", "_", stem)[:40]
+    return s if s and s[0].isalnum() else f"M{s}"[:40]
+
+
+def _yaml(data: dict) -> str:
+    import yaml
+    head = ("# deckbridge model of an imported mesh (deckbridge import). mesh.file is relative to this file;\n"
+            "# geometry was measured on the mesh (base radii, top plane). Every other key is the default JAR's:\n"
+            "# check material, loads and contact before use.\n")
+    return head + yaml.safe_dump(data, sort_keys=False)

@@ -1,0 +1,94 @@
+"""An independent skirt mesh made with the Gmsh Python API (structured, transfinite hexahedra), written
+to .msh (Gmsh), .inp and .bdf (plain writers here, Gmsh's numbering kept) with node sets BASE and TOP."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+
+def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
+    """Mesh the tube R -+ t/2, 0 <= z <= H [m] with Gmsh: a transfinite, recombined (r, z) rectangle
+    revolved about z in four 90 deg quarters with n_theta/4 layers each, duplicates merged. Returns the
+    paths {'msh', 'inp', 'bdf'} and Gmsh's arrays (node ids, xyz, element ids, hexahedra, sets)."""
+    import gmsh
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    gmsh.initialize(["-noenv"])
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("skirt")
+        geo = gmsh.model.geo
+        p = [geo.addPoint(R - t / 2, 0, 0), geo.addPoint(R + t / 2, 0, 0),
+             geo.addPoint(R + t / 2, 0, H), geo.addPoint(R - t / 2, 0, H)]
+        lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
+        loop = geo.addCurveLoop(lines)
+        surf = geo.addPlaneSurface([loop])
+        for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
+            geo.mesh.setTransfiniteCurve(ln, n + 1)
+        geo.mesh.setTransfiniteSurface(surf)
+        geo.mesh.setRecombine(2, surf)
+        vols, bottoms, tops = [], [], []
+        cur = (2, surf)
+        for q in range(4):   # revolve in 4 quarters (one revolution of 360 deg is not allowed)
+            out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
+            vols.append(out[1][1])
+            # the lateral surfaces from lines[0] (bottom) and lines[2] (top)
+            bottoms.append(out[2][1])
+            tops.append(out[4][1])
+            cur = out[0]
+        geo.synchronize()
+        gmsh.model.geo.removeAllDuplicates()
+        geo.synchronize()
+        gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
+        gmsh.model.addPhysicalGroup(2, bottoms, name="BASE")
+        gmsh.model.addPhysicalGroup(2, tops, name="TOP")
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.removeDuplicateNodes()
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        msh = outdir / "skirt.msh"
+        gmsh.write(str(msh))
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        etypes, etags, enodes = gmsh.model.mesh.getElements(3)
+        assert list(etypes) == [5], etypes        # 5 = 8-node hexahedron
+        conn = np.asarray(enodes[0], np.int64).reshape(-1, 8)
+        eids = np.asarray(etags[0], np.int64)
+        sets = {}
+        for name in ("BASE", "TOP"):
+            tag = [t for d, t in gmsh.model.getPhysicalGroups(2) if gmsh.model.getPhysicalName(2, t) == name][0]
+            sets[name] = np.asarray(gmsh.model.mesh.getNodesForPhysicalGroup(2, tag)[0], np.int64)
+    finally:
+        gmsh.finalize()
+    nids = np.asarray(tags, np.int64)
+    xyz = np.asarray(xyz, float).reshape(-1, 3)
+    used = np.unique(conn)
+    keep = np.isin(nids, used)
+    return {"msh": msh, "inp": write_inp(outdir / "skirt.inp", nids[keep], xyz[keep], eids, conn, sets),
+            "bdf": write_bdf(outdir / "skirt.bdf", nids[keep], xyz[keep], eids, conn, sets),
+            "node_ids": nids[keep], "xyz": xyz[keep], "elem_ids": eids, "conn": conn, "sets": sets}
+
+
+def write_inp(path, nids, xyz, eids, conn, sets, etype="C3D8"):
+    lines = ["*NODE"] + [f"{i}, {x!r}, {y!r}, {z!r}" for i, (x, y, z) in zip(nids, xyz)]
+    lines += [f"*ELEMENT, TYPE={etype}, ELSET=SKIRT"] + [", ".join(map(str, [e, *c])) for e, c in zip(eids, conn)]
+    for name, ids in sets.items():
+        lines.append(f"*NSET, NSET={name}")
+        lines += [", ".join(map(str, ids[k:k + 16])) for k in range(0, len(ids), 16)]
+    Path(path).write_text("\n".join(lines) + "\n")
+    return Path(path)
+
+
+def write_bdf(path, nids, xyz, eids, conn, sets):
+    """Free-field Nastran: GRID (large-field via ',' free format), CHEXA, SET1 (ids 1, 2 for BASE, TOP)."""
+    lines = ["SOL 101", "CEND", "BEGIN BULK"]
+    lines += [f"GRID*,{i},,{x!r},{y!r}\n*,{z!r}" for i, (x, y, z) in zip(nids, xyz)]
+    lines += [f"CHEXA,{e},1,{','.join(map(str, c[:6]))}\n,{c[6]},{c[7]}" for e, c in zip(eids, conn)]
+    lines += ["PSOLID,1,1", "MAT1,1,2.1e11,,0.3"]
+    for sid, (name, ids) in enumerate(sets.items(), start=1):
+        ids = [str(i) for i in ids]
+        lines.append(f"SET1,{sid}," + ",".join(ids[:7]))
+        lines += ["," + ",".join(ids[k:k + 8]) for k in range(7, len(ids), 8)]
+    lines.append("ENDDATA")
+    Path(path).write_text("\n".join(lines) + "\n")
+    return Path(path)
