@@ -9,7 +9,6 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
-import re
 from dataclasses import dataclass, field, fields
 from importlib import resources
 from pathlib import Path
@@ -19,82 +18,14 @@ import yaml
 
 from . import safe_yaml
 from .errors import ModelError
+from .model_fields import (MAX_INCREMENTS, NAME_RE, NU_MAX, UNITS, _choice, _flag, _int, _num,  # noqa: F401
+                           _opt_num, _put, _text)
 
 __all__ = [
     "ModelError", "Geometry", "MeshSpec", "Material", "Stop", "Penalty", "Contact",
     "Loads", "Steps", "Analysis", "Outputs", "Model", "default_text", "load", "loads_model",
     "apply_overrides", "parse_override",
 ]
-
-UNITS = ("SI", "mm")   # deck units: SI = N, m, Pa, kg; mm = N, mm, MPa, t (the model itself is always SI)
-NAME_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,39}")   # used with fullmatch: "JAR\n" is refused
-_DECIMAL = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
-MAX_ABS = 1.0e30          # no SI input of this model comes near; beyond it products overflow
-MAX_INCREMENTS = 10_000   # steps.increments: CalculiX decks carry INC > increments; 10^4 solves is hours
-NU_MAX = 0.49             # nu closer to 0.5 locks the hexahedra (Lagrange lambda_c 0.537 -> 0.018)
-
-
-
-def _num(key: str, value: Any, *, gt: float | None = None, ge: float | None = None,
-         lt: float | None = None) -> float:
-    if isinstance(value, str):  # a number given as text (e.g. by a caller); decimal only
-        if len(value) > 64 or not _DECIMAL.fullmatch(value.strip()):
-            raise ModelError(key, value, "must be a number")
-        value = float(value.strip())
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ModelError(key, value, "must be a number")
-    try:
-        v = float(value)
-    except OverflowError:
-        raise ModelError(key, value, f"must be finite, at most {MAX_ABS:g} in magnitude") from None
-    if not math.isfinite(v):
-        raise ModelError(key, value, "must be finite")
-    if abs(v) > MAX_ABS:
-        raise ModelError(key, value, f"must be at most {MAX_ABS:g} in magnitude (SI units)")
-    if gt is not None and not v > gt:
-        raise ModelError(key, value, f"must be > {gt:g}")
-    if ge is not None and not v >= ge:
-        raise ModelError(key, value, f"must be >= {ge:g}")
-    if lt is not None and not v < lt:
-        raise ModelError(key, value, f"must be < {lt:g}")
-    return v
-
-
-def _opt_num(key: str, value: Any, **bounds) -> float | None:
-    return None if value is None else _num(key, value, **bounds)
-
-
-def _int(key: str, value: Any, *, ge: int, le: int | None = None) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        if isinstance(value, float) and math.isfinite(value) and value.is_integer() and abs(value) < 2.0 ** 53:
-            value = int(value)
-        else:
-            raise ModelError(key, value, "must be an integer")
-    if value < ge:
-        raise ModelError(key, value, f"must be >= {ge}")
-    if le is not None and value > le:
-        raise ModelError(key, value, f"must be <= {le}")
-    return int(value)
-
-
-def _put(obj: Any, name: str, value: Any) -> None:
-    """Store a validated, converted value on a frozen dataclass."""
-    object.__setattr__(obj, name, value)
-
-
-def _choice(key: str, value: Any, choices: tuple[str, ...]) -> str:
-    if value not in choices:
-        raise ModelError(key, value, f"must be one of {', '.join(choices)}")
-    return value
-
-
-def _text(key: str, value: Any, *, max_len: int = 200) -> str:
-    if not isinstance(value, str):
-        raise ModelError(key, value, "must be a string")
-    if len(value) > max_len:
-        raise ModelError(key, value, f"longer than {max_len} characters")
-    return value
-
 
 @dataclass(frozen=True)
 class Geometry:
@@ -272,8 +203,7 @@ class Analysis:
     nlgeom: bool = False
 
     def __post_init__(self):
-        if not isinstance(self.nlgeom, bool):
-            raise ModelError("analysis.nlgeom", self.nlgeom, "must be true or false")
+        _flag("analysis.nlgeom", self.nlgeom)
 
 
 @dataclass(frozen=True)
@@ -282,8 +212,7 @@ class Outputs:
     vtu: bool = True
 
     def __post_init__(self):
-        if not isinstance(self.vtu, bool):
-            raise ModelError("outputs.vtu", self.vtu, "must be true or false")
+        _flag("outputs.vtu", self.vtu)
 
 
 @dataclass(frozen=True)
