@@ -3,6 +3,9 @@ to .msh (Gmsh), .inp and .bdf (plain writers here, Gmsh's numbering kept) with n
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -11,10 +14,30 @@ import numpy as np
 def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
     """Mesh the tube R -+ t/2, 0 <= z <= H [m] with Gmsh: a transfinite, recombined (r, z) rectangle
     revolved about z in four 90 deg quarters with n_theta/4 layers each, duplicates merged. Returns the
-    paths {'msh', 'inp', 'bdf'} and Gmsh's arrays (node ids, xyz, element ids, hexahedra, sets)."""
-    import gmsh
+    paths {'msh', 'inp', 'bdf'} and Gmsh's arrays (node ids, xyz, element ids, hexahedra, sets).
+
+    Gmsh runs in a child process: its shared library (OpenGL, OpenMP) loaded into the test process made
+    the interpreter crash at exit (segmentation fault after every test had passed)."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
+    args = json.dumps({"outdir": str(outdir), "R": R, "t": t, "H": H, "n_theta": n_theta, "n_z": n_z, "n_r": n_r})
+    subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
+    a = np.load(outdir / "gmsh_arrays.npz")
+    tags, xyz, conn, eids = a["tags"], a["xyz"], a["conn"], a["eids"]
+    sets = {"BASE": a["BASE"], "TOP": a["TOP"]}
+    msh = outdir / "skirt.msh"
+    nids = np.asarray(tags, np.int64)
+    xyz = np.asarray(xyz, float).reshape(-1, 3)
+    used = np.unique(conn)
+    keep = np.isin(nids, used)
+    return {"msh": msh, "inp": write_inp(outdir / "skirt.inp", nids[keep], xyz[keep], eids, conn, sets),
+            "bdf": write_bdf(outdir / "skirt.bdf", nids[keep], xyz[keep], eids, conn, sets),
+            "node_ids": nids[keep], "xyz": xyz[keep], "elem_ids": eids, "conn": conn, "sets": sets}
+
+
+def _mesh_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r) -> None:
+    """The Gmsh part of :func:`gmsh_skirt`: writes skirt.msh and gmsh_arrays.npz into ``outdir``."""
+    import gmsh
     gmsh.initialize(["-noenv"])
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -60,13 +83,8 @@ def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
             sets[name] = np.asarray(gmsh.model.mesh.getNodesForPhysicalGroup(2, tag)[0], np.int64)
     finally:
         gmsh.finalize()
-    nids = np.asarray(tags, np.int64)
-    xyz = np.asarray(xyz, float).reshape(-1, 3)
-    used = np.unique(conn)
-    keep = np.isin(nids, used)
-    return {"msh": msh, "inp": write_inp(outdir / "skirt.inp", nids[keep], xyz[keep], eids, conn, sets),
-            "bdf": write_bdf(outdir / "skirt.bdf", nids[keep], xyz[keep], eids, conn, sets),
-            "node_ids": nids[keep], "xyz": xyz[keep], "elem_ids": eids, "conn": conn, "sets": sets}
+    np.savez(Path(outdir) / "gmsh_arrays.npz", tags=np.asarray(tags, np.int64), xyz=np.asarray(xyz, float),
+             conn=conn, eids=eids, BASE=sets["BASE"], TOP=sets["TOP"])
 
 
 def write_inp(path, nids, xyz, eids, conn, sets, etype="C3D8"):
@@ -92,3 +110,8 @@ def write_bdf(path, nids, xyz, eids, conn, sets):
     lines.append("ENDDATA")
     Path(path).write_text("\n".join(lines) + "\n")
     return Path(path)
+
+
+if __name__ == "__main__":
+    kw = json.loads(sys.argv[1])
+    _mesh_in_this_process(Path(kw.pop("outdir")), **kw)
