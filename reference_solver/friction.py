@@ -40,12 +40,14 @@ import scipy.linalg as sla
 from .condense import CondensedSystem, check_mechanism, condense
 from .contact import Unbounded
 from .errors import ReferenceSolverError
+from .friction_ssn import solve_lagrange_increment
 from .linalg import cholesky_dense
 from .problem import Problem
 
 WOODBURY = True           # Newton steps as low-rank updates of one inverse per (k, k_t) (False: Cholesky)
 ANDERSON = 5             # depth of the Anderson acceleration of the Lagrange multiplier updates (0: off)
 AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
+LAGRANGE_SSN = True       # Lagrange: semi-smooth Newton (friction_ssn) instead of the augmented Lagrangian
 REGULARISER = 1.0e-6      # spring on the added tangential dofs during condensation, times E * L [N/m]
 
 
@@ -358,6 +360,8 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
                 return st
             cap = new
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
+    if LAGRANGE_SSN:
+        return solve_lagrange_increment(sysf, f, prev, mu, max_disp)
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
     t0 = prev.t.copy()
     zero = np.zeros_like(rho)
