@@ -60,13 +60,16 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60):
     from .friction import GrossSlip, NotConverged, solve_increment
     try:
         return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT)
-    except (NotConverged, Unbounded):
-        pass                                   # from a penalty predictor instead (GrossSlip passes on)
+    except (GrossSlip, NotConverged, Unbounded):
+        pass              # from a penalty predictor instead: its energy tells gross slip from a stall
     d = np.diag(sysf.S)
     k = PREDICTOR * d[:sysf.problem.n_contacts]
     kt = PREDICTOR * d[sysf.tdofs].mean(axis=1)
     pred = solve_increment(sysf, "penalty", f, prev, k, 1e-12 * k, kt, mu, max_disp)
-    st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x)
+    try:
+        st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x)
+    except (GrossSlip, Unbounded) as exc:
+        raise NotConverged(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})") from None
     st.iterations += pred.iterations
     return st
 
