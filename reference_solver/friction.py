@@ -361,7 +361,10 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
             cap = new
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
     if LAGRANGE_SSN:
-        return solve_lagrange_increment(sysf, f, prev, mu, max_disp)
+        try:
+            return solve_lagrange_increment(sysf, f, prev, mu, max_disp)
+        except NotConverged:
+            pass                                       # the augmented Lagrangian below, the last resort
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
     t0 = prev.t.copy()
     zero = np.zeros_like(rho)

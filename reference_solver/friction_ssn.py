@@ -28,11 +28,14 @@ from .contact import Unbounded
 from .errors import ReferenceSolverError
 
 PREDICTOR = 10.0         # the fallback predictor's penalty stiffness, times diag(S) [-]
-LINESEARCH = False       # full (active-set) Newton steps: a line search on |C|^2 stalls at the kinks
-DIRECT_MAXIT = 25        # Newton steps from the previous increment before the predictor is tried
+LINESEARCH = 0           # full (active-set) Newton steps: a line search on |C|^2 stalls at the kinks
+DIRECT_MAXIT = 12        # Newton steps from the previous increment before the predictor is tried
+RHO_N = 1.0
+RHO_T = 1.0
+PREDICTOR_TOL = 1.0e-6   # relative settling of its slip thresholds (a predictor only)
 
 
-def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref):
+def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None):
     """Residual C (nr,), the known-dof mask, and the pieces of the Jacobian at ``x``."""
     lam = S @ x - f
     g = clear + x[:nc]
@@ -44,7 +47,7 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref):
     ds = (x[td] - s_ref) * m
     xi = t - rho_t * ds
     nxi = np.linalg.norm(xi, axis=1)
-    q = np.where(sig[fr] > 0, mu * np.maximum(sig[fr], 0.0), 0.0) if np.isfinite(mu) else np.where(sig[fr] > 0, np.inf, 0.0)
+    q = np.where(sig[fr] > 0, mu * np.maximum(sig[fr], 0.0) if qfix is None else qfix, 0.0)   # slip threshold [N]
     closed = act[fr]
     stick = closed & (nxi <= q)
     slip = closed & ~stick
@@ -55,17 +58,22 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref):
 
 
 def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60):
-    """One increment of exact Coulomb friction: the semi-smooth Newton (:func:`_ssn`) from the previous
-    increment; when it does not settle, again from a penalty predictor (k = PREDICTOR * diag S)."""
+    """One increment of exact Coulomb friction from the converged state ``prev``.
+
+    The semi-smooth Newton (:func:`_ssn`) from the previous increment; when it does not settle in
+    ``DIRECT_MAXIT`` steps (its active sets can cycle), again from a penalty predictor (the energy-
+    descent penalty solve with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
+    when that fails too (the caller has the augmented-Lagrangian solve as the last resort).
+    """
     from .friction import GrossSlip, NotConverged, solve_increment
     try:
         return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT)
     except (GrossSlip, NotConverged, Unbounded):
-        pass              # from a penalty predictor instead: its energy tells gross slip from a stall
+        pass
     d = np.diag(sysf.S)
     k = PREDICTOR * d[:sysf.problem.n_contacts]
     kt = PREDICTOR * d[sysf.tdofs].mean(axis=1)
-    pred = solve_increment(sysf, "penalty", f, prev, k, 1e-12 * k, kt, mu, max_disp)
+    pred = solve_increment(sysf, "penalty", f, prev, k, 1e-12 * k, kt, mu, max_disp, tol=PREDICTOR_TOL)
     try:
         st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x)
     except (GrossSlip, Unbounded) as exc:
@@ -74,7 +82,7 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60):
     return st
 
 
-def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None):
+def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None):
     """One increment of exact Coulomb friction from the converged state ``prev`` (a friction.State).
 
     Raises :class:`reference_solver.friction.GrossSlip` when the iterates run away with every closed
@@ -86,22 +94,24 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None):
     S, nc, nr = sysf.S, pr.n_contacts, sysf.S.shape[0]
     fr, td, m = sysf.rows, sysf.tdofs, sysf.tmask
     d = np.diag(S)
-    rho_n, rho_t = d[:nc].copy(), d[td].mean(axis=1)[:, None]
+    rho_n, rho_t = RHO_N * d[:nc], RHO_T * d[td].mean(axis=1)[:, None]
     clear = pr.contact_clearance
     s_ref = prev.x[td]
     nf = fr.size
     fi = np.repeat(np.arange(nf), 2).reshape(nf, 2)           # friction row of each tangential axis
     tflat, fflat = td[m], fi[m]
     scale = max(np.abs(f).max(), 1e-300)
-    args = (S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref)
+    args = (S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix)
     x = np.array(prev.x if x0 is None else x0, float)
-    ev = _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref)
+    ev = _equations(x, *args)
     allslip = 0
     for it in range(1, maxit + 1):
         C, lam, act, stick, slip, nv, nxi, q, t = ev
         cmax = np.abs(C).max()
         if cmax <= tol * max(scale, np.abs(lam).max()):
-            slipping = slip & (np.linalg.norm((x[td] - s_ref) * m, axis=1) > 1e-12 * (np.abs(x).max() + 1e-300))
+            moving = np.linalg.norm((x[td] - s_ref) * m, axis=1) > 1e-12 * (np.abs(x).max() + 1e-300)
+            on_cone = act[fr] & (np.linalg.norm(t, axis=1) >= (1 - 1e-8) * q)
+            slipping = on_cone & (moving | prev.slip)        # a zero increment keeps the slip status
             return State(x=x, p=lam[:nc].copy(), t=t, active=act, slip=slipping, iterations=it - 1)
         # the Jacobian: rows of S by default (C = lam), replaced where the law says otherwise
         known = np.zeros(nr, bool)
@@ -126,8 +136,8 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None):
                 B = (rho_t[sl, 0] * c)[:, None, None] * P * mm[:, :, None] * mm[:, None, :]
                 St = S[td[sl]]                                # (ns, 2, nr)
                 jn = fr[sl]
-                dq = mu * S[jn]                               # d sigma / dx = S[j] - rho_n e_j
-                dq[np.arange(sl.size), jn] -= mu * rho_n[jn]
+                dq = (0.0 if qfix is not None else mu) * S[jn]   # d sigma / dx = S[j] - rho_n e_j (Tresca: 0)
+                dq[np.arange(sl.size), jn] -= (0.0 if qfix is not None else mu) * rho_n[jn]
                 Jt = np.einsum("sab,sbk->sak", A, St) - nv[sl, :, None] * mm[:, :, None] * dq[:, None, :]
                 Jt[np.arange(sl.size)[:, None], np.arange(2)[None, :], td[sl]] += np.einsum("saa->sa", B)
                 Jt[np.arange(sl.size), 0, td[sl, 1]] += B[:, 0, 1]
@@ -151,14 +161,15 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None):
             raise Unbounded("no bounded equilibrium")
         allslip = allslip + 1 if allslip_now else 0
         phi = 0.5 * C @ C
-        step = 1.0
-        while LINESEARCH:                                           # backtracking on |C|^2 / 2, else the full step
-            new = _equations(x + step * dx, *args)
-            if 0.5 * new[0] @ new[0] <= (1 - 1e-4 * step) * phi or step < 1e-4:
-                break
-            step *= 0.5
-        if step < 1e-4 or not LINESEARCH:
-            step, new = 1.0, _equations(x + dx, *args)
+        step, new = 1.0, _equations(x + dx, *args)
+        if LINESEARCH and 0.5 * new[0] @ new[0] > phi:          # a few halvings; the best trial, else the full step
+            best = (0.5 * new[0] @ new[0], 1.0, new)
+            for trial in (0.5, 0.25, 0.125)[:LINESEARCH]:
+                cand = _equations(x + trial * dx, *args)
+                best = min(best, (0.5 * cand[0] @ cand[0], trial, cand), key=lambda b: b[0])
+                if best[0] <= phi:
+                    break
+            _, step, new = best
         x, ev = x + step * dx, new
     C, lam, act, stick, slip, *_ = ev
     fa = act[fr]
