@@ -34,7 +34,8 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     out = prepare(outdir)
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
-    decks = render_all(model, out / "decks", mesh=mesh)
+    decks = render_all(model, out / "decks", mesh=mesh,
+                       on_unsupported=lambda err: echo(f"decks: skipped the {err.dialect} {' '.join(err.reason.split())}"))
     echo(f"decks: {len(decks)} files in {out / 'decks'}")
 
     mesh, system = condense_model(model, mesh)

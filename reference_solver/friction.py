@@ -41,22 +41,16 @@ from .condense import CondensedSystem, check_mechanism, condense
 from .contact import Unbounded
 from .errors import ReferenceSolverError
 from .friction_ssn import solve_lagrange_increment
+from .friction_state import GrossSlip, NotConverged, State  # noqa: F401  (re-exported)
 from .linalg import cholesky_dense
 from .problem import Problem
 
 WOODBURY = True           # Newton steps as low-rank updates of one inverse per (k, k_t) (False: Cholesky)
 ANDERSON = 5             # depth of the Anderson acceleration of the Lagrange multiplier updates (0: off)
 AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
+PREDICTOR_TOL = 1.0e-6    # relative settling of the Lagrange predictor's slip thresholds (a predictor only)
 LAGRANGE_SSN = True       # Lagrange: semi-smooth Newton (friction_ssn) instead of the augmented Lagrangian
 REGULARISER = 1.0e-6      # spring on the added tangential dofs during condensation, times E * L [N/m]
-
-
-class GrossSlip(ReferenceSolverError):
-    """No equilibrium because every closed friction row slips: the load slides the body."""
-
-
-class NotConverged(ReferenceSolverError):
-    """An increment's iterations did not settle (the path cuts the increment back)."""
 
 
 @dataclass
@@ -162,17 +156,6 @@ def condense_friction(p: Problem, **kw) -> FrictionSystem:
 def condense_problem(p: Problem, **kw):
     """:func:`condense_friction` for ``tangential='friction'``, else :func:`reference_solver.condense.condense`."""
     return condense_friction(p, **kw) if p.tangential == "friction" else condense(p, **kw)
-
-
-@dataclass
-class State:
-    """A converged (or trial) contact state: retained displacements and contact forces."""
-    x: np.ndarray                 # (nr,) [m]
-    p: np.ndarray                 # (nc,) normal force [N], > 0 compressive
-    t: np.ndarray                 # (nf, 2) tangential force [N], in the rows' tangent axes
-    active: np.ndarray            # (nc,) closed rows
-    slip: np.ndarray              # (nf,) slipping friction rows (closed and on the cone)
-    iterations: int = 0
 
 
 def _laws(x, sysf: FrictionSystem, k, k_open, kt, cap, p0, t0, s_ref):
@@ -362,7 +345,8 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
     if LAGRANGE_SSN:
         try:
-            return solve_lagrange_increment(sysf, f, prev, mu, max_disp)
+            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, predictor=lambda kp, ktp: solve_increment(
+                sysf, "penalty", f, prev, kp, 1e-12 * kp, ktp, mu, max_disp, tol=PREDICTOR_TOL))
         except NotConverged:
             pass                                       # the augmented Lagrangian below, the last resort
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)

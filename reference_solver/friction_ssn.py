@@ -26,13 +26,13 @@ import numpy as np
 
 from .contact import Unbounded
 from .errors import ReferenceSolverError
+from .friction_state import GrossSlip, NotConverged, State
 
 PREDICTOR = 10.0         # the fallback predictor's penalty stiffness, times diag(S) [-]
 LINESEARCH = 0           # full (active-set) Newton steps: a line search on |C|^2 stalls at the kinks
 DIRECT_MAXIT = 12        # Newton steps from the previous increment before the predictor is tried
 RHO_N = 1.0
 RHO_T = 1.0
-PREDICTOR_TOL = 1.0e-6   # relative settling of its slip thresholds (a predictor only)
 
 
 def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None):
@@ -57,15 +57,14 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None
     return C, lam, act, stick, slip, nv, nxi, q, t
 
 
-def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60):
+def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, predictor=None):
     """One increment of exact Coulomb friction from the converged state ``prev``.
 
     The semi-smooth Newton (:func:`_ssn`) from the previous increment; when it does not settle in
     ``DIRECT_MAXIT`` steps (its active sets can cycle), again from a penalty predictor (the energy-
-    descent penalty solve with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
+    descent penalty solve ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
     when that fails too (the caller has the augmented-Lagrangian solve as the last resort).
     """
-    from .friction import GrossSlip, NotConverged, solve_increment
     try:
         return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT)
     except (GrossSlip, NotConverged, Unbounded):
@@ -73,7 +72,9 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60):
     d = np.diag(sysf.S)
     k = PREDICTOR * d[:sysf.problem.n_contacts]
     kt = PREDICTOR * d[sysf.tdofs].mean(axis=1)
-    pred = solve_increment(sysf, "penalty", f, prev, k, 1e-12 * k, kt, mu, max_disp, tol=PREDICTOR_TOL)
+    if predictor is None:
+        raise NotConverged("Lagrange friction: the semi-smooth Newton did not settle (no predictor given)")
+    pred = predictor(k, kt)
     try:
         st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x)
     except (GrossSlip, Unbounded) as exc:
@@ -89,7 +90,6 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None):
     friction row slipping (the load slides the body), :class:`Unbounded` when they run away otherwise,
     :class:`reference_solver.friction.NotConverged` when they do not settle in ``maxit`` steps.
     """
-    from .friction import GrossSlip, NotConverged, State
     pr = sysf.problem
     S, nc, nr = sysf.S, pr.n_contacts, sysf.S.shape[0]
     fr, td, m = sysf.rows, sysf.tdofs, sysf.tmask

@@ -9,20 +9,24 @@ dialect table names each renderer; nothing registers itself here. Beside the dec
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Callable
 
 from ..dialects import DIALECTS
-from ..errors import DeckbridgeError
+from ..errors import DeckbridgeError, DeckUnsupported
 from ..mesh import SkirtMesh, build_mesh
 from ..model import Model
 from ..outdir import staged
 
 
 def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
-               mesh: SkirtMesh | None = None, model_vtu: bool | None = None) -> list[Path]:
+               mesh: SkirtMesh | None = None, model_vtu: bool | None = None,
+               on_unsupported: Callable[[DeckUnsupported], None] | None = None) -> list[Path]:
     """Render every dialect's decks (or those of ``names``) of ``model`` into ``outdir`` atomically.
 
     ``model_vtu``: also write ``<name>_model.vtu`` (mesh, ids, sets); default: when every dialect is
     rendered (``names`` None), so a chosen subset of decks stays just those decks.
+    ``on_unsupported``: called with the :class:`DeckUnsupported` of a dialect that cannot carry the model
+    (checked before it writes anything), which is then left out; default: the error propagates.
     """
     mesh = mesh or build_mesh(model)
     chosen = names or sorted(DIALECTS)
@@ -32,7 +36,14 @@ def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
     written: list[Path] = []
     with staged(outdir) as stage:
         for name in chosen:
-            written += [Path(outdir) / p.relative_to(stage) for p in DIALECTS[name].write(model, mesh, stage)]
+            try:
+                files = DIALECTS[name].write(model, mesh, stage)
+            except DeckUnsupported as err:
+                if on_unsupported is None:
+                    raise
+                on_unsupported(err)
+                continue
+            written += [Path(outdir) / p.relative_to(stage) for p in files]
         if names is None if model_vtu is None else model_vtu:
             from .model_vtu import write as write_model_vtu
             written.append(Path(outdir) / write_model_vtu(model, mesh, stage).relative_to(stage))
