@@ -25,7 +25,6 @@ from __future__ import annotations
 import numpy as np
 
 from .contact import Unbounded
-from .errors import ReferenceSolverError
 from .friction_state import GrossSlip, NotConverged, State
 
 PREDICTOR = 10.0         # the fallback predictor's penalty stiffness, times diag(S) [-]
