@@ -17,10 +17,11 @@ Laws (``s`` = tangential displacement (2,) [m], ``s_ref`` its value at the previ
 increment, ``g`` = clearance + x_normal the gap [m], > 0 open):
 - penalty (the paper's eq. 3, PGAP-like): p = -k g when closed, -k_open g open; t = proj(t_ref -
   k_t (s - s_ref)) on the disc |t| <= mu max(p, 0) (return mapping, radial);
-- Lagrange (exact): the fixed point of the augmented-Lagrangian maps p = max(0, p - rho g),
-  t = proj(t - rho (s - s_ref)) (Alart-Curnier), reached by outer multiplier updates, each inner
-  problem being the penalty law with the multipliers as pre-loads. At the fixed point g = 0 or p = 0
-  exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
+- Lagrange (exact): the Alart-Curnier equations p = max(0, p - rho g), t = proj(t - rho (s - s_ref))
+  solved by a semi-smooth Newton on the displacements alone (:mod:`.friction_ssn`), from the previous
+  increment, else from a penalty predictor; the augmented-Lagrangian multiplier updates below (each
+  inner problem the penalty law with the multipliers as pre-loads) are the last resort. At the
+  solution g = 0 or p = 0 exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
 Each inner problem freezes the slip threshold mu p (Tresca) so that it minimises a convex energy:
 Newton with an energy line search, its steps low-rank (Woodbury) updates of one inverse of
 S + k (+ k_t) per path; the threshold is then updated to mu p (fixed point; for Lagrange together

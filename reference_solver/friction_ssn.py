@@ -30,6 +30,7 @@ from .friction_state import GrossSlip, NotConverged, State
 PREDICTOR = 10.0         # the fallback predictor's penalty stiffness, times diag(S) [-]
 LINESEARCH = 0           # full (active-set) Newton steps: a line search on |C|^2 stalls at the kinks
 DIRECT_MAXIT = 12        # Newton steps from the previous increment before the predictor is tried
+DIRECT_RHO = (1.0, 0.1)  # the direct attempts' rho, times diag(S)
 RHO_N = 1.0
 RHO_T = 1.0
 
@@ -64,10 +65,11 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     descent penalty solve ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
     when that fails too (the caller has the augmented-Lagrangian solve as the last resort).
     """
-    try:
-        return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT)
-    except (GrossSlip, NotConverged, Unbounded):
-        pass
+    for rho in DIRECT_RHO:                             # the active sets cycle at some rho and not at others
+        try:
+            return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT, rho=rho)
+        except (GrossSlip, NotConverged, Unbounded):
+            pass
     d = np.diag(sysf.S)
     k = PREDICTOR * d[:sysf.problem.n_contacts]
     kt = PREDICTOR * d[sysf.tdofs].mean(axis=1)
@@ -82,7 +84,7 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     return st
 
 
-def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None):
+def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, rho=1.0):
     """One increment of exact Coulomb friction from the converged state ``prev`` (a friction.State).
 
     Raises :class:`reference_solver.friction.GrossSlip` when the iterates run away with every closed
@@ -93,7 +95,7 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None):
     S, nc, nr = sysf.S, pr.n_contacts, sysf.S.shape[0]
     fr, td, m = sysf.rows, sysf.tdofs, sysf.tmask
     d = np.diag(S)
-    rho_n, rho_t = RHO_N * d[:nc], RHO_T * d[td].mean(axis=1)[:, None]
+    rho_n, rho_t = rho * RHO_N * d[:nc], rho * RHO_T * d[td].mean(axis=1)[:, None]
     clear = pr.contact_clearance
     s_ref = prev.x[td]
     nf = fr.size
