@@ -320,11 +320,12 @@ def _unbounded(sysf, active, slip, strict=False):
 def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: State, k: np.ndarray,
                     k_open: np.ndarray, kt: np.ndarray, mu: float, max_disp: float,
                     rho: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 200,
-                    rho_steps: int = 1, rho_growth: float = 10.0) -> State:
+                    rho_steps: int = 1, rho_growth: float = 10.0, quick: bool = False) -> State:
     """One load increment from the converged state ``prev`` to the load ``f`` (penalty or Lagrange).
 
-    Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange:
-    augmented-Lagrangian multiplier updates (p, t and the thresholds) around the same solve.
+    Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange: the
+    semi-smooth Newton (``quick``: its direct attempts only, NotConverged else), then the augmented-
+    Lagrangian multiplier updates (p, t and the thresholds) around the same solve.
     """
     s_ref = prev.x[sysf.tdofs]
     nf, fr = sysf.rows.size, sysf.rows
@@ -346,9 +347,12 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
     if LAGRANGE_SSN:
         try:
-            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, predictor=lambda kp, ktp: solve_increment(
-                sysf, "penalty", f, prev, kp, 1e-12 * kp, ktp, mu, max_disp, tol=PREDICTOR_TOL))
+            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, predictor=None if quick else (
+                lambda kp, ktp: solve_increment(sysf, "penalty", f, prev, kp, 1e-12 * kp, ktp, mu, max_disp,
+                                                tol=PREDICTOR_TOL)))
         except NotConverged:
+            if quick:
+                raise                                  # the caller cuts the increment back first
             pass                                       # the augmented Lagrangian below, the last resort
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
     t0 = prev.t.copy()
