@@ -162,8 +162,11 @@ def _stats(a: np.ndarray) -> dict | None:
 
 
 def reactions(p: rs.Problem, sol: rs.Solution, row: int) -> tuple[np.ndarray, np.ndarray]:
-    """Resultant force [N] and moment about the reference point [N m] of contact + spring reactions."""
+    """Resultant force [N] and moment about the reference point [N m] of the contact reactions (normal and,
+    with friction, tangential: the table's force on the body) and the spring reactions."""
     f = sol.force[row][:, None] * p.contact_normals
+    if getattr(sol, "tangential_force", None) is not None:
+        f = f + sol.tangential_force[row]
     fs = sol.spring_force[row][:, None] * p.spring_dirs
     F = f.sum(axis=0) + fs.sum(axis=0)
     M = (np.cross(p.nodes[p.contact_nodes] - p.ref_point, f).sum(axis=0)
@@ -201,6 +204,8 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
         "penalty_k": pen,
         "k_tangent": _stats(p.spring_k),
         "friction": sol.friction_check(p, p.friction) if p.friction > 0 else None,
+        "tangential": p.tangential,
+        "gross_slip_load_factor": getattr(sol, "gross_slip_load_factor", None),
         "solver": {"sparse": system.info["schur"], "contact": sol.algorithm,
                    "increments": int(sol.step.size), "iterations": int(sol.iterations.sum())},
         "timings_s": {k: float(v) for k, v in system.info.items() if k.endswith("_s")}

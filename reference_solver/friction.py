@@ -17,10 +17,11 @@ Laws (``s`` = tangential displacement (2,) [m], ``s_ref`` its value at the previ
 increment, ``g`` = clearance + x_normal the gap [m], > 0 open):
 - penalty (the paper's eq. 3, PGAP-like): p = -k g when closed, -k_open g open; t = proj(t_ref -
   k_t (s - s_ref)) on the disc |t| <= mu max(p, 0) (return mapping, radial);
-- Lagrange (exact): the fixed point of the augmented-Lagrangian maps p = max(0, p - rho g),
-  t = proj(t - rho (s - s_ref)) (Alart-Curnier), reached by outer multiplier updates, each inner
-  problem being the penalty law with the multipliers as pre-loads. At the fixed point g = 0 or p = 0
-  exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
+- Lagrange (exact): the Alart-Curnier equations p = max(0, p - rho g), t = proj(t - rho (s - s_ref))
+  solved by a semi-smooth Newton on the displacements alone (:mod:`.friction_ssn`), from the previous
+  increment, else from a penalty predictor; the augmented-Lagrangian multiplier updates below (each
+  inner problem the penalty law with the multipliers as pre-loads) are the last resort. At the
+  solution g = 0 or p = 0 exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
 Each inner problem freezes the slip threshold mu p (Tresca) so that it minimises a convex energy:
 Newton with an energy line search, its steps low-rank (Woodbury) updates of one inverse of
 S + k (+ k_t) per path; the threshold is then updated to mu p (fixed point; for Lagrange together
@@ -40,21 +41,17 @@ import scipy.linalg as sla
 from .condense import CondensedSystem, check_mechanism, condense
 from .contact import Unbounded
 from .errors import ReferenceSolverError
+from .friction_ssn import solve_lagrange_increment
+from .friction_state import GrossSlip, NotConverged, State  # noqa: F401  (re-exported)
 from .linalg import cholesky_dense
 from .problem import Problem
 
 WOODBURY = True           # Newton steps as low-rank updates of one inverse per (k, k_t) (False: Cholesky)
 ANDERSON = 5             # depth of the Anderson acceleration of the Lagrange multiplier updates (0: off)
 AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
+PREDICTOR_TOL = 1.0e-6    # relative settling of the Lagrange predictor's slip thresholds (a predictor only)
+LAGRANGE_SSN = True       # Lagrange: semi-smooth Newton (friction_ssn) instead of the augmented Lagrangian
 REGULARISER = 1.0e-6      # spring on the added tangential dofs during condensation, times E * L [N/m]
-
-
-class GrossSlip(ReferenceSolverError):
-    """No equilibrium because every closed friction row slips: the load slides the body."""
-
-
-class NotConverged(ReferenceSolverError):
-    """An increment's iterations did not settle (the path cuts the increment back)."""
 
 
 @dataclass
@@ -140,6 +137,11 @@ def condense_friction(p: Problem, **kw) -> FrictionSystem:
                      "spring_dirs": np.vstack([p.spring_dirs.reshape(-1, 3), np.array(new_dirs).reshape(-1, 3)]),
                      "spring_k": np.concatenate([p.spring_k, np.full(nn, kreg)]),
                      "tangential": "springs"})
+    # The friction system retains every dof of its base nodes. With the trailing-factor Schur path
+    # (schur='trailing', the CHOLMOD default) such systems crashed the interpreter at exit (heap
+    # corruption seen in a single-hexahedron case; root cause not found), so they use the blocked
+    # right-hand-side Schur complement unless the caller asks otherwise.
+    kw.setdefault("schur", "rhs")
     base = condense(aug, **kw)
     S = base.S.copy()
     added = np.arange(p.n_contacts + p.n_springs, S.shape[0])
@@ -160,17 +162,6 @@ def condense_friction(p: Problem, **kw) -> FrictionSystem:
 def condense_problem(p: Problem, **kw):
     """:func:`condense_friction` for ``tangential='friction'``, else :func:`reference_solver.condense.condense`."""
     return condense_friction(p, **kw) if p.tangential == "friction" else condense(p, **kw)
-
-
-@dataclass
-class State:
-    """A converged (or trial) contact state: retained displacements and contact forces."""
-    x: np.ndarray                 # (nr,) [m]
-    p: np.ndarray                 # (nc,) normal force [N], > 0 compressive
-    t: np.ndarray                 # (nf, 2) tangential force [N], in the rows' tangent axes
-    active: np.ndarray            # (nc,) closed rows
-    slip: np.ndarray              # (nf,) slipping friction rows (closed and on the cone)
-    iterations: int = 0
 
 
 def _laws(x, sysf: FrictionSystem, k, k_open, kt, cap, p0, t0, s_ref):
@@ -334,11 +325,12 @@ def _unbounded(sysf, active, slip, strict=False):
 def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: State, k: np.ndarray,
                     k_open: np.ndarray, kt: np.ndarray, mu: float, max_disp: float,
                     rho: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 200,
-                    rho_steps: int = 1, rho_growth: float = 10.0) -> State:
+                    rho_steps: int = 1, rho_growth: float = 10.0, quick: bool = False) -> State:
     """One load increment from the converged state ``prev`` to the load ``f`` (penalty or Lagrange).
 
-    Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange:
-    augmented-Lagrangian multiplier updates (p, t and the thresholds) around the same solve.
+    Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange: the
+    semi-smooth Newton (``quick``: its direct attempts only, NotConverged else), then the augmented-
+    Lagrangian multiplier updates (p, t and the thresholds) around the same solve.
     """
     s_ref = prev.x[sysf.tdofs]
     nf, fr = sysf.rows.size, sysf.rows
@@ -358,6 +350,15 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
                 return st
             cap = new
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
+    if LAGRANGE_SSN:
+        try:
+            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, predictor=None if quick else (
+                lambda kp, ktp: solve_increment(sysf, "penalty", f, prev, kp, 1e-12 * kp, ktp, mu, max_disp,
+                                                tol=PREDICTOR_TOL)))
+        except NotConverged:
+            if quick:
+                raise                                  # the caller cuts the increment back first
+            pass                                       # the augmented Lagrangian below, the last resort
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
     t0 = prev.t.copy()
     zero = np.zeros_like(rho)

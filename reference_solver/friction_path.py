@@ -20,6 +20,7 @@ from .errors import ReferenceSolverError
 from .friction import FrictionSystem, GrossSlip, NotConverged, State, solve_increment
 from .solution import Solution
 
+QUICK_DEPTH = 2           # Lagrange: cutbacks tried with the direct Newton alone before its fallbacks
 CUTBACKS = 5             # an increment that does not converge is halved up to this many times
 SLIDE_TOL = 1.0e-4        # bisection tolerance of the gross-slip and liftoff onsets, relative to the largest
                           # load factor (each step is a sub-increment; liftoff_tol applies when coarser)
@@ -98,7 +99,8 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
         """One increment; cut back into halves (up to CUTBACKS times) when it does not converge."""
         co = cb if lam is None else cb + lam * cr
         try:
-            return solve_increment(sysf, method, sysf.fhat @ co, prev, k, k_open, kt, p.friction, max_disp, rho)
+            return solve_increment(sysf, method, sysf.fhat @ co, prev, k, k_open, kt, p.friction, max_disp, rho,
+                                   quick=lam is not None and depth < QUICK_DEPTH)
         except NotConverged:
             if depth >= CUTBACKS:
                 raise

@@ -300,3 +300,30 @@ def read(path: Path, model=None) -> pd.DataFrame:
     else:
         raise DeckbridgeError(f"{str(path)!r}: no such file or folder")
     return pd.concat([_read_job(s, model) for s in stems], ignore_index=True)
+
+
+def n2f_tangential_force(dat: Path, model) -> dict[float, dict[int, float]]:
+    """|F_t| [N] per ccx total time and table slave node id of a node-to-surface penalty job with friction.
+
+    ``*CONTACT PRINT`` CSTR gives per contact element (pair order, lifted nodes left out) the pressure and
+    two shear stresses tang1, tang2 [stress] in the master face's axes; ccx's force is the stress times the
+    node-based slave area A_ccx, so |F_t| = hypot(tang1, tang2) x A_ccx (a node without a row: 0, left out).
+    """
+    mesh = build_mesh(model)
+    a_ccx = ccx_node_slave_areas(mesh)
+    order = [(int(n), g.surface) for g in ccx_n2f_groups(mesh) for n in g.nodes]
+    u = scale(model.units)
+    out: dict[float, dict[int, float]] = {}
+    for b in _dat_blocks(Path(dat)):
+        if b["kind"] != "contact":
+            continue
+        got, k = out.setdefault(b["time"], {}), 0
+        for node, v in b["rows"]:
+            while k < len(order) and order[k][0] != node:
+                k += 1
+            if k == len(order):
+                raise DeckbridgeError(f"{str(dat)!r}: contact row of node {node} out of the deck's slave order")
+            if order[k][1] == "table":
+                got[node] = float(np.hypot(v[1], v[2]) / u.stress * a_ccx[node - 1])
+            k += 1
+    return out

@@ -20,13 +20,13 @@ from ..outdir import staged
 
 def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
                mesh: SkirtMesh | None = None, model_vtu: bool | None = None,
-               skip_unsupported: Callable[[DeckUnsupported], None] | None = None) -> list[Path]:
+               on_unsupported: Callable[[DeckUnsupported], None] | None = None) -> list[Path]:
     """Render every dialect's decks (or those of ``names``) of ``model`` into ``outdir`` atomically.
 
     ``model_vtu``: also write ``<name>_model.vtu`` (mesh, ids, sets); default: when every dialect is
     rendered (``names`` None), so a chosen subset of decks stays just those decks.
-    ``skip_unsupported``: called with the :class:`DeckUnsupported` of a dialect that cannot render the
-    model (it raises before writing anything), which is then left out; None lets the error end the command.
+    ``on_unsupported``: called with the :class:`DeckUnsupported` of a dialect that cannot carry the model
+    (checked before it writes anything), which is then left out; default: the error propagates.
     """
     mesh = mesh or build_mesh(model)
     chosen = names or sorted(DIALECTS)
@@ -37,13 +37,13 @@ def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
     with staged(outdir) as stage:
         for name in chosen:
             try:
-                paths = DIALECTS[name].write(model, mesh, stage)
-            except DeckUnsupported as exc:
-                if skip_unsupported is None:
+                files = DIALECTS[name].write(model, mesh, stage)
+            except DeckUnsupported as err:
+                if on_unsupported is None:
                     raise
-                skip_unsupported(exc)
+                on_unsupported(err)
                 continue
-            written += [Path(outdir) / p.relative_to(stage) for p in paths]
+            written += [Path(outdir) / p.relative_to(stage) for p in files]
         if names is None if model_vtu is None else model_vtu:
             from .model_vtu import write as write_model_vtu
             written.append(Path(outdir) / write_model_vtu(model, mesh, stage).relative_to(stage))

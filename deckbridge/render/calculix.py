@@ -8,7 +8,9 @@ node, measured) and the force K A_ccx d, so the slope K = k_c / A_ccx reproduces
 Penalty, ``nlgeom: true``: one GAPUNI element per slave node, from the skirt node to a grounded node at the
 same place, stiffness k_c on its ``*GAP`` line, direction -n, the clearance and the tension for a wide
 opening f_inf = open_ratio * k_c * t. GAPUNI needs ``NLGEOM`` in 2.20 (without it reactions came out doubled),
-so it is the NLGEOM deck only. Both are frictionless: contact.friction > 0 raises :class:`DeckUnsupported`.
+so it is the NLGEOM deck only. With contact.tangential = friction the node-to-surface table groups carry
+``*FRICTION`` (mu, stick slope k_t / A_ccx [Pa/m]: ccx's tangential spring is the slope times the node's area)
+and no circumferential springs; GAPUNI has no friction (:class:`DeckUnsupported`).
 
 Lagrange-type: ``*CONTACT PAIR, TYPE=MORTAR`` (dual shape functions) between the skirt's first-row base
 faces (slave) and the top faces of a fixed C3D8 ring (master). With MORTAR_HARD (default) the interaction
@@ -127,10 +129,26 @@ def _gaps(model: Model, mesh: SkirtMesh, gap_ids: GapIds, k_of) -> dict:
 
 def check_supported(model: Model) -> None:
     """Raise :class:`DeckUnsupported` (before anything is written) when the penalty deck cannot carry the model."""
-    if model.contact.friction > 0:
-        raise DeckUnsupported("calculix", f"contact.friction = {model.contact.friction:g}: the CalculiX penalty deck "
-                              "is frictionless (GAPUNI gaps / node-to-surface without *FRICTION): set it to 0, or "
-                              "leave out the calculix dialect (--dialect)")
+    mu = model.contact.friction
+    if mu > 0 and getattr(model.contact, "tangential", "springs") != "friction":
+        raise DeckUnsupported("calculix", f"contact.friction = {mu:g} with contact.tangential = springs: the CalculiX "
+                              "penalty deck writes *FRICTION only when friction carries the shear (tangential = "
+                              "friction); set friction to 0, or leave out the calculix dialect (--dialect)")
+    if mu > 0 and not ccx_penalty_is_n2f(model):
+        raise DeckUnsupported("calculix", f"contact.friction = {mu:g} with analysis.nlgeom = true: the CalculiX "
+                              "penalty deck is then GAPUNI gaps, which have no friction; set nlgeom to false "
+                              "(node-to-surface contact with *FRICTION), or leave out the calculix dialect (--dialect)")
+
+
+def _stick_slopes(mesh: SkirtMesh, group, a_ccx: np.ndarray, rel: float = 1e-6) -> float:
+    """The *FRICTION stick slope of a table group [Pa/m, SI]: k_t / A_ccx, ccx's tangential spring being
+    the slope times the node's area (as the normal one); one value per group, else DeckUnsupported."""
+    kt = np.asarray(mesh.k_tangent, float)[group.rows]
+    slope = kt / a_ccx[mesh.table.nodes[group.rows]]
+    if np.ptp(slope) > rel * np.abs(slope).max():
+        raise DeckUnsupported("calculix", f"contact group {group.name}: k_t / A_ccx differs from node to node "
+                              "(a fixed contact.penalty.k_tangent on unequal areas); use k_tangent: follow")
+    return float(slope.mean())
 
 
 def _n2f(model: Model, mesh: SkirtMesh, lay: Layout) -> dict:
@@ -139,10 +157,13 @@ def _n2f(model: Model, mesh: SkirtMesh, lay: Layout) -> dict:
     t = model.geometry.thickness
     rings = {"TABLE": lay.table_master, "STOP": lay.stop_master}
     masters = [{"name": n, "faces": face_lines(r.elem_ids, r.face)} for n, r in rings.items() if r is not None]
+    a_ccx = ccx_node_slave_areas(mesh)
+    mu = model.contact.friction if getattr(model.contact, "tangential", "springs") == "friction" else 0.0
     groups = [{"name": g.name, "master": g.surface.upper(), "nodes": id_lines(g.nodes, 1),   # ccx: one node a line
                "line": f"{real(g.slope * u.stress / u.length)}, "
-                       f"{real(mesh.k_open_ratio * g.slope * t * u.stress)}"} for g in ccx_n2f_groups(mesh)]
-    a_ccx = ccx_node_slave_areas(mesh)
+                       f"{real(mesh.k_open_ratio * g.slope * t * u.stress)}",
+               "friction": (f"{real(mu)}, {real(_stick_slopes(mesh, g, a_ccx) * u.stress / u.length)}"
+                            if mu > 0 and g.surface == "table" else "")} for g in ccx_n2f_groups(mesh)]
     meta = ["** deckbridge-n2f node surface area_ccx (m^2: ccx's area of the node-based slave node)"]
     for ss in (mesh.table, mesh.stop):
         if ss is not None:

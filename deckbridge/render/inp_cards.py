@@ -140,7 +140,8 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
     """
     mesh, lv, s = lay.mesh, lay.loads, model.steps
     u: Units = scale(model.units)
-    springs = spring_groups(mesh.k_tangent, mesh_node_ids(mesh, mesh.table.nodes), lay.next_elem)
+    springs = ([] if model.contact.tangential == "friction"          # friction carries T, no springs
+               else spring_groups(mesh.k_tangent, mesh_node_ids(mesh, mesh.table.nodes), lay.next_elem))
     f, m = u.force, u.moment
     step2 = {1: lv["T_force"][0] * s.lambda_max * f, 2: lv["T_force"][1] * s.lambda_max * f, 3: lv["N_force"][2] * f,
              4: lv["M_moment"][0] * s.lambda_max * m, 5: lv["M_moment"][1] * s.lambda_max * m}

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..errors import DeckUnsupported
 from ..mesh import SkirtMesh
 from ..model import Model
 from ..outdir import write_text
@@ -40,6 +41,9 @@ def deck_text(model: Model, mesh: SkirtMesh) -> str:
 
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
-    """Write ``<name>_mystran.bdf`` into ``outdir``."""
+    """Write ``<name>_mystran.bdf`` into ``outdir`` (DeckUnsupported, before writing, with friction)."""
+    if nc.tangential(model) == "friction":
+        raise DeckUnsupported("mystran", "contact.tangential = friction: the linear deck has no friction (every "
+                              "gap closed, T through springs); use contact.tangential = springs")
     (path,) = deck_paths("mystran", model.name, outdir)
     return [write_text(path, deck_text(model, mesh))]

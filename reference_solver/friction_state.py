@@ -1,0 +1,28 @@
+"""The converged (or trial) state of a friction increment and the friction solver's errors."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ReferenceSolverError
+
+
+class GrossSlip(ReferenceSolverError):
+    """No equilibrium because every closed friction row slips: the load slides the body."""
+
+
+class NotConverged(ReferenceSolverError):
+    """An increment's iterations did not settle (the path cuts the increment back)."""
+
+
+@dataclass
+class State:
+    """A converged (or trial) contact state: retained displacements and contact forces."""
+    x: np.ndarray                 # (nr,) [m]
+    p: np.ndarray                 # (nc,) normal force [N], > 0 compressive
+    t: np.ndarray                 # (nf, 2) tangential force [N], in the rows' tangent axes
+    active: np.ndarray            # (nc,) closed rows
+    slip: np.ndarray              # (nf,) slipping friction rows (closed and on the cone)
+    iterations: int = 0
