@@ -39,6 +39,11 @@ def _complete_frame(dirs: list[np.ndarray], node: int) -> np.ndarray:
                     f"node {node}: its contact normals and spring directions must be mutually orthogonal")
     if len(dirs) > 3:
         raise ReferenceSolverError(f"node {node}: more than three contact/spring directions")
+    return np.array(complete_basis(dirs))
+
+
+def complete_basis(dirs: list[np.ndarray]) -> list[np.ndarray]:
+    """The given (1 to 3) orthonormal directions followed by the axes completing a right-handed basis."""
     axes = list(dirs)
     if len(axes) == 1:
         helper = np.eye(3)[int(np.argmin(np.abs(axes[0])))]
@@ -46,7 +51,7 @@ def _complete_frame(dirs: list[np.ndarray], node: int) -> np.ndarray:
         axes.append(v / np.linalg.norm(v))
     if len(axes) == 2:
         axes.append(np.cross(axes[0], axes[1]))
-    return np.array(axes)
+    return axes
 
 
 def build_dofmap(p: Problem) -> DofMap:

@@ -43,6 +43,7 @@ from .contact import Unbounded
 from .errors import ReferenceSolverError
 from .friction_ssn import solve_lagrange_increment
 from .friction_state import GrossSlip, NotConverged, State  # noqa: F401  (re-exported)
+from .frames import complete_basis
 from .linalg import cholesky_dense
 from .problem import Problem
 
@@ -100,14 +101,7 @@ class FrictionSystem:
 
 def _tangent_axes(normals: list[np.ndarray]) -> list[np.ndarray]:
     """Axes completing the given orthonormal directions of one node to an orthonormal basis."""
-    axes = list(normals)
-    if len(axes) == 1:
-        helper = np.eye(3)[int(np.argmin(np.abs(axes[0])))]
-        v = helper - (helper @ axes[0]) * axes[0]
-        axes.append(v / np.linalg.norm(v))
-    if len(axes) == 2:
-        axes.append(np.cross(axes[0], axes[1]))
-    return axes[len(normals):]
+    return complete_basis(normals)[len(normals):]
 
 
 def condense_friction(p: Problem, **kw) -> FrictionSystem:

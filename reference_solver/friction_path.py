@@ -16,7 +16,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 
 from .contact import Unbounded
-from .errors import ReferenceSolverError
+from .errors import ReferenceSolverError, no_equilibrium
 from .friction import FrictionSystem, GrossSlip, NotConverged, State, solve_increment
 from .solution import Solution
 
@@ -117,11 +117,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
         except GrossSlip:
             raise
         except Unbounded:
-            if step == 1:
-                raise ReferenceSolverError(
-                    "no contact possible: the step-1 load does not press the body onto its supports") from None
-            raise ReferenceSolverError(f"step 2, load factor {lam:.6g}: the load tips the body over "
-                                       "(no equilibrium on its supports)") from None
+            raise no_equilibrium(step, lam) from None
 
     def reach(a_st: State, a: float, lam: float) -> tuple[State, float | None]:
         """Sub-steps from (a_st, a) to lam: (state at lam, None), or (last state, gross-slip onset)."""
@@ -225,8 +221,6 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
         tangential="friction", tangential_force=ft, slip_increment=dslip, stick_status=status,
         dissipation=diss, gross_slip_load_factor=slide_lf, retained_u=X)
     if recover:
-        ends = [int(np.flatnonzero(step == s)[-1]) for s in (1, 2)]
-        for s, u in zip((1, 2), sysf.recover(X[ends], C[ends])):
-            sol.fields[s] = u
+        sol.recover_step_ends(sysf, X)
     sol.wall_time_s = time.perf_counter() - t0
     return sol

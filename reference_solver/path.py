@@ -15,7 +15,7 @@ import numpy as np
 
 from .condense import CondensedSystem
 from .contact import Unbounded, lcp_active_set, lcp_pgs, penalty_solve
-from .errors import ReferenceSolverError
+from .errors import ReferenceSolverError, no_equilibrium
 from .friction import FrictionSystem
 from .friction_path import solve_friction_path
 from .onset import track_lagrange, track_penalty
@@ -103,11 +103,7 @@ def solve_path(sysm: CondensedSystem, method: str = "penalty", k_factor: float =
         try:
             return _solve_state(sysm, method, algorithm, coeffs, k, k_open, warm, max_disp)
         except Unbounded:
-            if step == 1:
-                raise ReferenceSolverError(
-                    "no contact possible: the step-1 load does not press the body onto its supports") from None
-            raise ReferenceSolverError(f"step 2, load factor {lam:.6g}: the load tips the body over "
-                                       "(no equilibrium on its supports)") from None
+            raise no_equilibrium(step, lam) from None
 
     rows = []
     u1, f1, c1, it1 = run(cb, None, 1, 0.0)
@@ -181,8 +177,6 @@ def solve_path(sysm: CondensedSystem, method: str = "penalty", k_factor: float =
         spring_force=-p.spring_k * us, iterations=np.array([r[7] for r in rows]),
         liftoff_load_factor=lift_lf, liftoff_row=lift_row, liftoff_method=lift_how)
     if recover:
-        ends = [int(np.flatnonzero(step == s)[-1]) for s in (1, 2)]
-        for s, u in zip((1, 2), sysm.recover(U[ends], C[ends])):
-            sol.fields[s] = u
+        sol.recover_step_ends(sysm, U)
     sol.wall_time_s = time.perf_counter() - t0
     return sol

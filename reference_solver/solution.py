@@ -80,3 +80,11 @@ class Solution:
         return {"mu": mu, "violations": int(viol.sum()),
                 "violations_last_increment": int(viol[-1].sum()) if viol.size else 0,
                 "max_ratio_ft_fn": float(ratio.max()) if ratio.size else 0.0}
+
+    def recover_step_ends(self, system, retained: np.ndarray) -> None:
+        """Global displacements (n, 3) [m] at the end of steps 1 and 2 into ``fields``, by one
+        ``system.recover`` of the retained displacements ``retained`` (ni, nr) of those rows."""
+        ends = [int(np.flatnonzero(self.step == s)[-1]) for s in (1, 2)]
+        for s, u in zip((1, 2), system.recover(retained[ends], self.coeffs[ends])):
+            self.fields[s] = u
+
