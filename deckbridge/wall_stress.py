@@ -32,7 +32,7 @@ WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa",
 
 def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.DataFrame:
     """Wall table of every state of a reference solution (one recovery solve for all of them)."""
-    U = system.recover(sol.u, sol.coeffs)
+    U = system.recover(sol.u if sol.retained_u is None else sol.retained_u, sol.coeffs)   # friction: + tangential dofs
     bottom = bottom_row_index(mesh)
     frames = []
     for i in range(sol.step.size):

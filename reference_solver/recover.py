@@ -19,7 +19,8 @@ def path_fields(system: CondensedSystem, sol: Solution, rows=None) -> np.ndarray
     the end of step 1 and every increment of step 2), recovered with ONE call of
     :meth:`CondensedSystem.recover` (one multi-right-hand-side back substitution)."""
     idx = np.arange(sol.step.size) if rows is None else np.asarray(rows, np.int64)
-    return system.recover(sol.u[idx], sol.coeffs[idx]).reshape(idx.size, -1, 3)
+    x = sol.u if sol.retained_u is None else sol.retained_u     # friction: normal + tangential dofs
+    return system.recover(x[idx], sol.coeffs[idx]).reshape(idx.size, -1, 3)
 
 
 def states_stress(p, U: np.ndarray) -> list[dict]:

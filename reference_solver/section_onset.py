@@ -51,7 +51,8 @@ def section_onset(sysm: CondensedSystem, sol: Solution, groups: list[np.ndarray]
     lo = float(sol.load_factor[before[-1]])
     kf = sol.k_factor if sol.method == "penalty" else 1.0
 
-    diag = np.diag(sysm.Sc).copy()
+    # the normal dofs' condensed stiffness (a friction system retains them first in S)
+    diag = (np.diag(sysm.Sc) if hasattr(sysm, "Sc") else np.diag(sysm.S)[:sysm.n_contacts]).copy()
 
     def measure(gap, force, closed):
         m = np.where(closed, gap - force / diag, gap)
