@@ -5,6 +5,7 @@ comparison and report. Layout of the output folder DIR:
   DIR/reference_penalty/     contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu, wall_stress.csv
                              (reference solver, penalty)
   DIR/reference_lagrange/    the same with Lagrange multipliers
+                             (with contact.tangential: friction also friction.csv, deckbridge/friction_table.py)
   DIR/ccx/                   CalculiX jobs and results, <job>.pvd + <job>_NNN.vtu (--with-ccx)
   DIR/report.html, sigma_n.png, discrepancy.csv, summary.json   the comparison
 """
@@ -18,6 +19,7 @@ from typing import Callable
 
 from .compare import compare_tables
 from .compare.onsets import describe
+from .friction_table import read_friction
 from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare
@@ -56,7 +58,8 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
         write_outputs(folder, model, system, sol, df, summary, mesh)
         wall = reference_wall(system, mesh, sol)
         write_wall(folder, wall)
-        tables.append(SourceResult(df, str(folder), summary=summary, wall=wall, **read_globals(folder, [method])))
+        tables.append(SourceResult(df, str(folder), summary=summary, wall=wall, friction=read_friction(folder),
+                                   **read_globals(folder, [method])))
         origins.append(str(folder))
         summaries[method] = summary
 

@@ -55,6 +55,15 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("open_tension_ratio", "1", "none",
              "largest sigma_N > 0 of an open node / |peak compression| (penalty open-gap stiffness)"),
     Quantity("lifted_arc_deg", "deg", "arc weights", "arc of azimuths whose every table node is open"),
+    Quantity("tau_wall_pa", "Pa", "area (tributary areas of the through-wall nodes)",
+             "tangential (friction) traction through the wall at one azimuth = Sum |F_t| / Sum area of its "
+             "table nodes, F_t the table's tangential force on the node (friction.csv)"),
+    Quantity("tangential_resultant_n", "N", "none (vector sum)",
+             "resultant of the tangential forces of the contact rows (table on body, global x, y, z); "
+             "with no stop in contact it balances the applied shear: Sum F_t = -T lambda"),
+    Quantity("contact_resultant_n", "N", "none (vector sum)",
+             "resultant of the whole contact forces F_n n + F_t of every row (table and stop, on the body); "
+             "balances the applied loads: its horizontal part = -T lambda"),
 ]}
 
 
@@ -151,6 +160,28 @@ def lifted_arc_deg(rows: pd.DataFrame) -> float:
     g = pd.Series(r["status"].to_numpy() == "open", index=snap_deg(r["theta_deg"].to_numpy(float)))
     up = g.groupby(level=0).all().sort_index()
     return float(np.sum(arc_weights(up.index.to_numpy(float))[up.to_numpy()]))
+
+
+def tangential_traction(rows: pd.DataFrame) -> pd.Series:
+    """tau [Pa] through the wall per azimuth (index theta_deg, sorted) of one state of friction.csv:
+    Sum |F_t| / Sum area of the table nodes at the azimuth (>= 0; the magnitude, not a component)."""
+    r = table_rows(rows)
+    g = pd.DataFrame({"t": snap_deg(r["theta_deg"].to_numpy(float)), "f": r["ft_n"].to_numpy(float),
+                      "a": r["area_m2"].to_numpy(float)}).groupby("t", sort=True)
+    out = g["f"].sum() / g["a"].sum()
+    out.index.name = "theta_deg"
+    return out.astype(float)
+
+
+def tangential_resultant(rows: pd.DataFrame) -> np.ndarray:
+    """Vector sum (3,) [N] of the tangential forces F_t (table on body, global xyz) of the given rows."""
+    return rows[["ft_x_n", "ft_y_n", "ft_z_n"]].to_numpy(float).sum(axis=0)
+
+
+def contact_resultant_vector(rows: pd.DataFrame) -> np.ndarray:
+    """Vector sum (3,) [N] of the whole contact forces F_n n + F_t (masters on body, global xyz) of the
+    given rows of friction.csv; over every row it balances the applied loads: = -(N + T lambda)."""
+    return rows[["fn_x_n", "fn_y_n", "fn_z_n"]].to_numpy(float).sum(axis=0) + tangential_resultant(rows)
 
 
 def section_sides(rows: pd.DataFrame, azimuth_deg: float) -> dict:

@@ -139,6 +139,7 @@ class SourceResult:
     fields: dict | None = None
     summary: dict | None = None
     wall: pd.DataFrame | None = None      # base-wall sigma_zz per state (deckbridge.wall_stress.WALL_COLUMNS)
+    friction: pd.DataFrame | None = None  # tangential state per row and state (deckbridge.friction_table), if any
 
     def wall_at(self, step: int, increment: int, load_factor: float) -> pd.DataFrame | None:
         """Rows of :attr:`wall` of one state: step 1 its last increment, step 2 the same load factor."""
@@ -158,7 +159,8 @@ class SourceResult:
         """``obj`` itself when already a record, else a plain table wrapped with no globals."""
         if isinstance(obj, SourceResult):
             return obj if origin is None or obj.origin is not None else cls(obj.table, str(origin), obj.globals,
-                                                                           obj.fields, obj.summary, obj.wall)
+                                                                           obj.fields, obj.summary, obj.wall,
+                                                                           obj.friction)
         return cls(obj, None if origin is None else str(origin))
 
     def globals_for(self, method: str) -> dict:

@@ -23,6 +23,7 @@ import pandas as pd
 import reference_solver as rs
 
 from .errors import DeckbridgeError
+from .friction_table import FRICTION_CSV, friction_table
 from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
 from .model import Model
@@ -234,13 +235,17 @@ def result_mesh(p: rs.Problem, sol: rs.Solution):
 
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
                   df: pd.DataFrame, summary: dict, mesh: SkirtMesh | None = None) -> list[Path]:
-    """Write contact.csv, summary.json and (outputs.vtu) result.vtu plus the ParaView series result.pvd,
+    """Write contact.csv, summary.json, with friction friction.csv (:mod:`deckbridge.friction_table`), and (outputs.vtu) result.vtu plus the ParaView series result.pvd,
     result_NNN.vtu (one per increment, :mod:`deckbridge.paraview`) into ``outdir`` atomically."""
     import meshio
     names = ["contact.csv", "summary.json"]
     with staged(outdir) as stage:
         df.to_csv(stage / "contact.csv", index=False)
         (stage / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)       # only with contact.tangential: friction
+        if fric is not None:
+            fric.to_csv(stage / FRICTION_CSV, index=False, float_format="%.17g")
+            names.append(FRICTION_CSV)
         if model.outputs.vtu and sol.fields:
             meshio.write(stage / "result.vtu", result_mesh(system.problem, sol))
             names.append("result.vtu")

@@ -102,8 +102,9 @@ def check_against_model(df: pd.DataFrame, model, path) -> None:
 
 
 def read_source(path, model=None) -> SourceResult:
-    """The table of :func:`read` with the folder's global figures per method, its result.vtu fields and
-    its summary.json (the solver's liftoff, reactions, timings) when that is a JSON object."""
+    """The table of :func:`read` with the folder's global figures per method, its result.vtu fields,
+    its summary.json (the solver's liftoff, reactions, timings) when that is a JSON object and its
+    friction.csv (:mod:`deckbridge.friction_table`) when the solution had friction."""
     table = read(Path(path), model=model)
     summary = None
     folder = _folder(path)
@@ -112,9 +113,11 @@ def read_source(path, model=None) -> SourceResult:
             summary = json.loads((folder / "summary.json").read_text())
         except (OSError, ValueError, RecursionError):
             summary = None
+    from ..friction_table import read_friction
     from ..wall_stress import read_wall
     return SourceResult(table, str(path), summary=summary if isinstance(summary, dict) else None,
-                        wall=read_wall(folder), **read_globals(path, table["method"].unique()))
+                        wall=read_wall(folder), friction=read_friction(folder),
+                        **read_globals(path, table["method"].unique()))
 
 
 def read_globals(origin, methods) -> dict:

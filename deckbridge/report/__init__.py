@@ -20,6 +20,7 @@ from ..compare.load_path import load_path, status_map
 from .caveats import banners, caveat_lines, deck_options, provenance
 from .figures import global_figure, png_bytes, sigma_n_figure
 from .html import render
+from .friction_figures import friction_data, resultant_figure, stick_map_figure, tau_sigma_figure
 from .load_path_figures import centred_figure, load_path_figure, status_map_figure, through_wall_figure
 
 __all__ = ["write_report", "sigma_n_figure"]
@@ -45,6 +46,14 @@ def write_report(result: ComparisonResult, outdir, model=None, extra: dict | Non
                           png_bytes(centred_figure(pt, result.labels, az))))
         path_pngs.append((f"through the wall (inner / mid / outer nodes), λ = {pt.load_factor:.4g}",
                           png_bytes(through_wall_figure(pt, result.labels, az))))
+    fric = friction_data(records, result.labels, [pt.load_factor for pt in result.points], model)
+    fric_pngs = []
+    if fric:
+        for pt in result.points:
+            fric_pngs.append((f"τ beside σN around the tension side, λ = {pt.load_factor:.4g}",
+                              png_bytes(tau_sigma_figure(pt, result.labels, fric, az))))
+        fric_pngs.append(("stick / slip / open, θ × λ", png_bytes(stick_map_figure(fric, result.labels))))
+        fric_pngs.append(("resultant of the tangential forces against T·λ", png_bytes(resultant_figure(fric, result.labels))))
     options = {lab: deck_options(r.origin if r is not None else None) for lab, r in records.items()}
     cav = {lab: (r.summary or {}).get("caveats") for lab, r in records.items() if r is not None and r.summary}
     warnings = banners(options)
@@ -55,10 +64,12 @@ def write_report(result: ComparisonResult, outdir, model=None, extra: dict | Non
                       ccx_ran=any(s.source == "ccx" for s in result.series))
     text = render(result, figures, model=model, glob=glob, inputs=extra.get("inputs"), notes=extra.get("notes"),
                   global_png=None if gfig is None else png_bytes(gfig), path_pngs=path_pngs,
-                  banners=warnings, caveats=cav_lines, provenance=prov)
+                  banners=warnings, caveats=cav_lines, provenance=prov, friction_pngs=fric_pngs)
     summary = result.summary()
     summary["load_path"] = json_clean(paths)
     summary["status_map"] = json_clean(maps)
+    if fric:                                    # only when a source has friction (friction.csv)
+        summary["friction"] = json_clean(fric)
     summary["caveats"] = json_clean({"banners": warnings, "reference": cav, "lines": cav_lines})
     summary["provenance"] = json_clean(prov)
     summary["global"] = json_clean({lab: glob.get(lab) or None for lab in result.labels})

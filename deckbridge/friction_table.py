@@ -1,0 +1,84 @@
+"""friction.csv of a reference folder: the tangential (friction) state of every contact row and increment.
+
+Written beside contact.csv when the solution models Coulomb friction (``contact.tangential: friction``),
+same rows in the same order. Columns: step, increment, load_factor, node, surface, theta_deg, wall (as in
+contact.csv); ``fn_x_n``, ``fn_y_n``, ``fn_z_n``: the normal force of the master on the node in global
+xyz [N] (force_n times the row's normal into the body; with F_t the whole contact force); ``ft_x_n``, ``ft_y_n``, ``ft_z_n``: the tangential force F_t of the master (table, stop) on
+the node in global xyz [N] (it opposes the slip: in stick Sum F_t = -T lambda with no stop in contact);
+``ft_theta_n`` = F_t . e_theta with e_theta = (-sin t, cos t, 0) (circumferential, CCW > 0),
+``ft_r_n`` = F_t . e_r with e_r = (cos t, sin t, 0) (radial, outwards > 0), ``ft_n`` = |F_t| [N];
+``area_m2`` the node's tributary contact area, ``tau_pa`` = |F_t| / area [Pa] (one node; through the
+wall see :func:`deckbridge.quantities.tangential_traction`); ``mu_fn_n`` = mu max(force_n, 0) [N], the
+Coulomb bound; ``stick_status``: stick | slip | open | frictionless (a surface without friction).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+FRICTION_CSV = "friction.csv"
+COLUMNS = ["step", "increment", "load_factor", "node", "surface", "theta_deg", "wall", "fn_x_n", "fn_y_n", "fn_z_n",
+           "ft_x_n", "ft_y_n", "ft_z_n", "ft_theta_n", "ft_r_n", "ft_n", "area_m2", "tau_pa", "mu_fn_n", "stick_status"]
+STATUSES = ("stick", "slip", "open", "frictionless")
+
+
+def friction_table(contact: pd.DataFrame, sol, mu: float, normals: np.ndarray) -> pd.DataFrame | None:
+    """friction.csv of a solution (None without friction); ``contact``: its tidy contact table, whose
+    rows are (increment, contact row) in the solution's order; ``normals`` (nc, 3): the contact rows'
+    unit normals into the body (the problem's contact_normals)."""
+    if getattr(sol, "tangential_force", None) is None:
+        return None
+    ft = np.asarray(sol.tangential_force, float).reshape(-1, 3)
+    if len(contact) != ft.shape[0]:
+        raise ValueError(f"friction table: {ft.shape[0]} tangential forces for {len(contact)} contact rows")
+    t = np.radians(contact["theta_deg"].to_numpy(float))
+    e_theta = np.stack([-np.sin(t), np.cos(t), np.zeros_like(t)], axis=1)
+    e_r = np.stack([np.cos(t), np.sin(t), np.zeros_like(t)], axis=1)
+    mag = np.linalg.norm(ft, axis=1)
+    fn = (np.asarray(sol.force, float)[:, :, None] * np.asarray(normals, float)[None]).reshape(-1, 3)
+    area = contact["area_m2"].to_numpy(float)
+    out = contact[["step", "increment", "load_factor", "node", "surface", "theta_deg", "wall"]].reset_index(drop=True)
+    out = out.assign(fn_x_n=fn[:, 0], fn_y_n=fn[:, 1], fn_z_n=fn[:, 2], ft_x_n=ft[:, 0], ft_y_n=ft[:, 1], ft_z_n=ft[:, 2],
+                     ft_theta_n=np.einsum("ij,ij->i", ft, e_theta), ft_r_n=np.einsum("ij,ij->i", ft, e_r),
+                     ft_n=mag, area_m2=area, tau_pa=mag / area,
+                     mu_fn_n=mu * np.maximum(contact["force_n"].to_numpy(float), 0.0),
+                     stick_status=np.asarray(sol.stick_status).ravel().astype(str))
+    return out[COLUMNS]
+
+
+def read_friction(folder) -> pd.DataFrame | None:
+    """friction.csv of a reference folder (or beside a contact.csv), None when absent or not one."""
+    if folder is None:
+        return None
+    p = Path(str(folder))
+    p = p / FRICTION_CSV if p.is_dir() else p.parent / FRICTION_CSV
+    if not p.is_file():
+        return None
+    try:
+        df = pd.read_csv(p)
+    except (OSError, ValueError, pd.errors.ParserError):
+        return None
+    if not set(COLUMNS) <= set(df.columns) or not df["stick_status"].isin(STATUSES).all():
+        return None
+    return df[COLUMNS]
+
+
+def state_rows(df: pd.DataFrame, load_factor: float) -> pd.DataFrame | None:
+    """Rows of one state: lambda = 0 the end of step 1, else the last step-2 increment at ``load_factor``
+    (to 1e-9 relative); None when the path has no such state (no interpolation)."""
+    if load_factor == 0.0:
+        s = df[df["step"] == 1]
+    else:
+        s = df[(df["step"] == 2) & (np.abs(df["load_factor"] - load_factor) <= 1e-9 * max(1.0, abs(load_factor)))]
+    if s.empty:
+        return None
+    return s[s["increment"] == s["increment"].max()]
+
+
+def states(df: pd.DataFrame):
+    """(step, increment, load_factor, rows) of every state in path order."""
+    for (step, inc), rows in df.groupby(["step", "increment"], sort=True):
+        yield int(step), int(inc), float(rows["load_factor"].iloc[0]), rows

@@ -1,0 +1,146 @@
+"""friction.csv and the report's 'Friction' section (issue 14, Report) against independent truths: the
+applied shear T lambda (balance of forces), the Coulomb bound mu F_n per row, and friction.csv itself
+for the figure data in summary.json; a run without friction writes neither."""
+
+import json
+from functools import lru_cache
+
+import numpy as np
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+
+from deckbridge.cli import main
+from deckbridge.model import load
+from deckbridge.readers.reference import read_source
+
+MU = 0.3
+SMALL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "outputs.vtu=false"]
+FRICTION = ["contact.tangential=friction", f"contact.friction={MU}"]
+METHODS = ("penalty", "lagrange")
+
+
+@lru_cache(maxsize=None)
+def _run(tmp: str, *sets: str):
+    out = f"{tmp}/job_{abs(hash(sets))}"
+    args = [a for s in sets for a in ("--set", s)]
+    res = CliRunner().invoke(main, ["run", *args, "-o", out])
+    assert res.exit_code == 0, res.output
+    from pathlib import Path
+    return Path(out), load(None, list(sets))
+
+
+@pytest.fixture(scope="module")
+def tmp(tmp_path_factory):
+    return str(tmp_path_factory.mktemp("friction_report"))
+
+
+def _states(fr):
+    return fr.groupby(["step", "increment"], sort=True)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_tangential_resultant_equals_the_applied_shear_and_rows_stay_in_the_cone(tmp, method):
+    """No stop: the table's tangential forces alone carry T, so Sum F_t = -T_force lambda at every
+    increment (to 1e-9 of max(T lambda, T): lambda = 0 has no scale of its own), and no row's |F_t|
+    exceeds mu F_n (1 + 1e-9) (F_n from contact.csv) beyond a round-off floor of 1e-9 of the largest |F_t|
+    (the solver's own friction check)."""
+    out, model = _run(tmp, *SMALL, *FRICTION, "contact.stop.side=none")
+    folder = out / f"reference_{method}"
+    fr = pd.read_csv(folder / "friction.csv")
+    ct = pd.read_csv(folder / "contact.csv")
+    assert len(fr) == len(ct) and (fr["node"].to_numpy() == ct["node"].to_numpy()).all()
+    t_force = np.array(model.load_vectors()["T_force"])
+    T = model.loads.T
+    for (step, inc), rows in _states(fr):
+        lam = float(rows["load_factor"].iloc[0])
+        f = rows[["ft_x_n", "ft_y_n", "ft_z_n"]].to_numpy().sum(axis=0)
+        assert np.allclose(f, -t_force * lam, rtol=0, atol=1e-9 * max(T * lam, T)), (step, inc, f)
+    fn = np.maximum(ct["force_n"].to_numpy(), 0.0)
+    ft = np.linalg.norm(fr[["ft_x_n", "ft_y_n", "ft_z_n"]].to_numpy(), axis=1)
+    assert np.allclose(fr["ft_n"], ft, rtol=1e-12, atol=0)
+    floor = 1e-9 * ft.max()        # round-off of the Lagrange solve on open rows (up to ~3e-6 N of 1.4e4 N here)
+    assert np.all(ft <= MU * fn * (1 + 1e-9) + floor)
+    slip = fr["stick_status"].to_numpy() == "slip"
+    assert slip.any()                                              # past liftoff rows slip
+    assert np.allclose(ft[slip], MU * fn[slip], rtol=1e-6)         # a slipping row sits on the cone
+    assert np.all(ft[fr["stick_status"].to_numpy() == "open"] <= floor)
+    t = np.radians(fr["theta_deg"].to_numpy())
+    assert np.allclose(fr["ft_theta_n"], -np.sin(t) * fr["ft_x_n"] + np.cos(t) * fr["ft_y_n"], atol=1e-9 * T)
+    assert np.allclose(fr["tau_pa"] * ct["area_m2"], ft, rtol=1e-12)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_with_the_stop_the_whole_contact_force_balances_the_loads(tmp, method):
+    """Radial stop (inner): table and stop together: Sum (F_n n + F_t) = -(N + T lambda) (to 1e-9 N)."""
+    out, model = _run(tmp, *SMALL, *FRICTION)
+    fr = pd.read_csv(out / f"reference_{method}" / "friction.csv")
+    assert set(fr["surface"]) == {"table", "stop"}
+    lv = model.load_vectors()
+    for _, rows in _states(fr):
+        lam = float(rows["load_factor"].iloc[0])
+        f = rows[["fn_x_n", "fn_y_n", "fn_z_n"]].to_numpy().sum(0) + rows[["ft_x_n", "ft_y_n", "ft_z_n"]].to_numpy().sum(0)
+        applied = np.array(lv["N_force"]) + lam * np.array(lv["T_force"])
+        assert np.allclose(f, -applied, rtol=0, atol=1e-9 * model.loads.N)
+    summary = json.loads((out / "summary.json").read_text())
+    r = summary["friction"][f"reference/{method}"]["resultant"]
+    assert np.allclose(r["contact_along_t_n"], r["applied_t_n"], rtol=0, atol=1e-9 * model.loads.N)
+
+
+def test_report_friction_data_is_what_friction_csv_says(tmp):
+    out, model = _run(tmp, *SMALL, *FRICTION, "contact.stop.side=none")
+    summary = json.loads((out / "summary.json").read_text())
+    html = (out / "report.html").read_text()
+    assert "<h2>Friction</h2>" in html
+    section = html.split("<h2>Friction</h2>", 1)[1].split("<h2>", 1)[0]
+    assert section.count("data:image/png") == len(summary["load_factors"]) + 2     # tau per point, map, resultant
+    fric = summary["friction"]
+    assert set(fric) == {"reference/penalty", "reference/lagrange"}
+    e_t = np.array(model.load_vectors()["T_force"]) / model.loads.T
+    for method in METHODS:
+        fr = pd.read_csv(out / f"reference_{method}" / "friction.csv")
+        d = fric[f"reference/{method}"]
+        table = fr[fr["surface"] == "table"]
+        # tau(theta) through the wall at each compared load factor: Sum |F_t| / Sum area of the azimuth
+        assert [t["load_factor"] for t in d["tau_wall"]] == summary["load_factors"]
+        for t in d["tau_wall"]:
+            lam = t["load_factor"]
+            st = table[(table["step"] == 1)] if lam == 0 else table[(table["step"] == 2) & np.isclose(table["load_factor"], lam)]
+            st = st[st["increment"] == st["increment"].max()]
+            g = st.assign(th=st["theta_deg"].round(6)).groupby("th")
+            want = (g["ft_n"].sum() / g["area_m2"].sum()).sort_index()
+            assert np.allclose(t["theta_deg"], want.index.to_numpy(), atol=1e-6)
+            assert np.allclose(t["tau_pa"], want.to_numpy(), rtol=1e-12, atol=0)
+        # resultant and stick map per state: end of step 1, then step 2 increments 1..n
+        states = [k for k in _states(fr).groups if k[0] == 2 and k[1] > 0]
+        states = [max(k for k in _states(fr).groups if k[0] == 1)] + sorted(states)
+        r, m = d["resultant"], d["stick_map"]
+        assert list(zip(r["step"], r["increment"])) == states
+        for i, key in enumerate(states):
+            rows = _states(fr).get_group(key)
+            f = rows[["ft_x_n", "ft_y_n", "ft_z_n"]].to_numpy().sum(0)
+            assert np.allclose(r["all_xyz_n"][i], f, rtol=1e-12, atol=1e-9)
+            assert r["along_t_n"][i] == pytest.approx(-f @ e_t, rel=1e-12, abs=1e-9)
+            assert r["applied_t_n"][i] == pytest.approx(model.loads.T * r["load_factor"][i], rel=1e-12)
+            assert r["along_t_n"][i] == pytest.approx(r["applied_t_n"][i], rel=0, abs=1e-9 * model.loads.T)
+            tb = rows[rows["surface"] == "table"]
+            for th, code in zip(m["theta_deg"], m["status"][i]):
+                s = tb.loc[np.isclose(tb["theta_deg"], th, atol=1e-6), "stick_status"]
+                want = 2 if (s == "open").all() else 1 if (s == "slip").any() else 0
+                assert code == want, (key, th)
+        assert any(1 in row for row in m["status"]) and any(2 in row for row in m["status"])
+    # read back with the folder (what `deckbridge compare` gets)
+    rec = read_source(out / "reference_lagrange")
+    pd.testing.assert_frame_equal(rec.friction.reset_index(drop=True),
+                                  pd.read_csv(out / "reference_lagrange" / "friction.csv"), check_dtype=False)
+
+
+def test_run_without_friction_writes_no_friction_section(tmp):
+    out, _ = _run(tmp, *SMALL)
+    for method in METHODS:
+        assert (out / f"reference_{method}" / "contact.csv").is_file()
+        assert not (out / f"reference_{method}" / "friction.csv").exists()
+        assert read_source(out / f"reference_{method}").friction is None
+    summary = json.loads((out / "summary.json").read_text())
+    assert "friction" not in summary
+    assert "<h2>Friction</h2>" not in (out / "report.html").read_text()
