@@ -79,9 +79,10 @@ def sigma_n_wall(rows: pd.DataFrame) -> pd.Series:
     th = snap_deg(r["theta_deg"].to_numpy(float))
     a = r["area_m2"].to_numpy(float) if "area_m2" in r else np.full(len(r), np.nan)
     f = r["force_n"].to_numpy(float) if "force_n" in r else np.full(len(r), np.nan)
-    g = pd.DataFrame({"t": th, "a": a, "f": f, "s": r["sigma_n_pa"].to_numpy(float)}).groupby("t", sort=True)
+    g = pd.DataFrame({"t": th, "a": a, "f": f, "s": r["sigma_n_pa"].to_numpy(float),
+                      "known": np.isfinite(a)}).groupby("t", sort=True)
     weighted = -g["f"].sum(min_count=1) / g["a"].sum(min_count=1)
-    known = g["a"].apply(lambda x: bool(np.isfinite(x).all()))
+    known = g["known"].all()              # every area of the azimuth finite (one vectorised pass)
     out = weighted.where(known, g["s"].mean())
     out.index.name = "theta_deg"
     return out.astype(float)

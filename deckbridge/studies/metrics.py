@@ -56,12 +56,17 @@ def _table_stats(df: pd.DataFrame) -> dict:
 
 
 def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, pd.DataFrame],
-                    records: dict[str, dict], tol: float, load_factors: list[float] | None = None) -> VariantResult:
+                    records: dict[str, dict], tol: float, load_factors: list[float] | None = None,
+                    series: dict | None = None) -> VariantResult:
     """Compare every penalty case of ``variant`` with its Lagrange case.
 
     ``tables`` / ``records``: by case id, the stored table and record (a record with 'error' is a
-    case that failed; it is listed, not compared).
+    case that failed; it is listed, not compared). ``series``: by case id, ``series_of(table, label)``
+    already built from the same stored table (the sweep builds them while the workers still run);
+    the others are built here.
     """
+    series = series or {}
+    of = lambda c: series[c.case_id] if c.case_id in series else series_of(tables[c.case_id], c.label)  # noqa: E731
     lag = next(c for c in cases if c.method == "lagrange")
     pens = sorted((c for c in cases if c.method == "penalty"), key=lambda c: c.k_factor)
     errors = {c.label: records[c.case_id]["error"] for c in cases if records[c.case_id].get("error")}
@@ -73,8 +78,7 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
         return VariantResult(variant, None, lagrange, per_k, [], None, errors)
 
     ok = [c for c in pens if not records[c.case_id].get("error")]
-    series = [series_of(tables[lag.case_id], lag.label)] + [series_of(tables[c.case_id], c.label) for c in ok]
-    comp = compare_series(series, load_factors)
+    comp = compare_series([of(lag)] + [of(c) for c in ok], load_factors)
     ls = lrec["summary"]
     lagrange.update({
         "liftoff_load_factor": ls["liftoff_load_factor"], "liftoff_theta_deg": ls["liftoff_theta_deg"],

@@ -48,6 +48,7 @@ from ..model import Model
 from ..outdir import prepare, staged
 from .cases import OPEN_STIFFNESS, Case, mesh_variants, sweep_cases
 from .claims import tidy_frame, variant_claims
+from ..compare.series import series_of
 from .metrics import VariantResult, monotone, rnd, variant_metrics
 from .store import CaseStore
 from .tasks import condense_or_error, condense_variant, solve_case, solve_or_error, solve_variant_batch
@@ -190,7 +191,24 @@ def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: 
     done = set(reused)
     todo = [c for c in cases if c.case_id not in done]
     t1 = time.perf_counter()
-    ex = execute(todo, store, run_id, client, strategy, progress, on_case_stored)
+    read_back: dict[str, pd.DataFrame] = {}
+    series: dict[str, object] = {}
+
+    def stored(case: Case) -> None:
+        """Read a case back from the store as soon as it is stored, and build its series: the client
+        waits on the workers meanwhile, so the metrics below start with the work done."""
+        try:
+            rec = store.meta(case)
+            if rec is not None and not rec.get("error"):
+                read_back[case.case_id] = store.table(case)
+                series[case.case_id] = series_of(read_back[case.case_id], case.label)
+        except Exception:          # noqa: BLE001  (left to the metrics below, which raise where they did)
+            read_back.pop(case.case_id, None)
+            series.pop(case.case_id, None)
+        if on_case_stored is not None:
+            on_case_stored(case)
+
+    ex = execute(todo, store, run_id, client, strategy, progress, stored)
     t2 = time.perf_counter()
 
     records = {c.case_id: store.meta(c) for c in cases}
@@ -200,9 +218,10 @@ def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: 
     if all(r.get("error") for r in records.values()):
         first = next(iter(records.values()))["error"]
         raise DeckbridgeError(f"every case failed; first: {first}")
-    tables = {c.case_id: store.table(c) for c in cases if not records[c.case_id].get("error")}
+    tables = {c.case_id: read_back[c.case_id] if c.case_id in read_back else store.table(c)
+              for c in cases if not records[c.case_id].get("error")}
     of = lambda v: [c for c in cases if c.mesh is v]  # noqa: E731
-    results = [variant_metrics(v, of(v), tables, records, tol, load_factors) for v in variants]
+    results = [variant_metrics(v, of(v), tables, records, tol, load_factors, series) for v in variants]
     summary = make_summary(model, variants, results, k_factors, tol, open_stiffness, load_factors)
     walls = {cid: store.wall(c) for c in cases if (cid := c.case_id) in tables}
     claims, qrows = [], []

@@ -27,6 +27,7 @@ class Condensed:
     system: object
     condense_s: float
     where: str
+    model_dict: dict | None = None     # the model condensed: a case of this very model reuses ``mesh``
 
 
 def one_blas_thread():
@@ -55,7 +56,7 @@ def condense_variant(model_dict: dict, light: bool = True) -> Condensed:
     mesh, system = condense_model(model)
     if light:
         system = dataclasses.replace(system, schur=None)
-    return Condensed(mesh, system, time.perf_counter() - t0, where())
+    return Condensed(mesh, system, time.perf_counter() - t0, where(), model_dict)
 
 
 def _bind(cond: Condensed, model: Model):
@@ -65,7 +66,10 @@ def _bind(cond: Condensed, model: Model):
     from ..solve import build_problem
     from ..tangent_springs import rebind
 
-    mesh = build_mesh(model)
+    # the mesh carries the model's penalties: rebuilt only for a case whose model differs from the
+    # condensed one (a --grid point of a solve-time key); a plain k-factor sweep reuses it
+    same = cond.model_dict is not None and model.to_dict() == cond.model_dict
+    mesh = cond.mesh if same else build_mesh(model)
     prob = build_problem(model, mesh)
     return mesh, rebind(cond.system, dataclasses.replace(cond.system.problem, contact_k=prob.contact_k,
                         k_open_ratio=prob.k_open_ratio, spring_k=prob.spring_k, contact_kt=prob.contact_kt,
