@@ -11,8 +11,10 @@ Point data (SI; 0 off the contact, never NaN there):
   ``displacement_m`` (n, 3); ``node_id``; ``<surface>_sigma_n_pa`` contact stress of the table / stop slave
   (sigma_N = -force / area, < 0 compression); ``<surface>_gap_m`` (> 0 open); ``<surface>_status``
   (1 closed, 0 open, -1 not a slave of that surface); ``<surface>_area_m2`` tributary area;
-  ``tangential_force_n``: circumferential spring force on the table node along the spring direction
-  (counter-clockwise seen from +z, [N]); masks ``table_slave``, ``stop_slave``, ``top_ring`` (1/0);
+  ``tangential_force_n``: circumferential tangential force on the table node along e_theta
+  (counter-clockwise seen from +z, [N]): the spring force with ``tangential: springs``, the
+  circumferential component of the friction force with ``tangential: friction``;
+  ``friction_force_n`` (n, 3): friction force of the table on the node (global xyz [N]; 0 with springs); masks ``table_slave``, ``stop_slave``, ``top_ring`` (1/0);
   ``stress_nodal_pa`` (n, 6) Gauss-point stresses extrapolated to the corners and averaged over the
   elements sharing the node (an estimate), ``von_mises_nodal_pa``.
 Cell data: ``element_id``; ``bottom_row`` (1 for the element row on the table); ``stress_pa`` (ne, 6)
@@ -120,6 +122,18 @@ def write_states(folder: Path, base: str, nodes: np.ndarray, hexes: np.ndarray, 
     return [pvd] + [folder / f for f in files]
 
 
+def tangential_point_data(p, sol, row: int) -> tuple[np.ndarray, np.ndarray]:
+    """(circumferential tangential force per node [N], friction force per node (n, 3) [N]) at ``row``."""
+    fric = np.zeros((p.n_nodes, 3))
+    if sol.tangential_force is None:
+        tang = np.zeros(p.n_nodes)
+        tang[p.spring_nodes] = sol.spring_force[row]
+        return tang, fric
+    np.add.at(fric, p.contact_nodes, sol.tangential_force[row])
+    t = np.arctan2(p.nodes[:, 1], p.nodes[:, 0])
+    return fric[:, 0] * -np.sin(t) + fric[:, 1] * np.cos(t), fric
+
+
 def reference_states(model, mesh: SkirtMesh, system, sol) -> tuple[list[dict], np.ndarray]:
     """Point and cell data of every row of ``sol`` and their pseudo-times (see the module doc)."""
     p = system.problem
@@ -127,12 +141,11 @@ def reference_states(model, mesh: SkirtMesh, system, sol) -> tuple[list[dict], n
     base_point, base_cell = mesh_data(mesh)
     states = []
     for r, s in enumerate(states_stress(p, U)):
-        tang = np.zeros(p.n_nodes)
-        tang[p.spring_nodes] = sol.spring_force[r]
+        tang, fric = tangential_point_data(p, sol, r)
         point = {**base_point, "displacement_m": U[r],
                  **contact_data(p.n_nodes, p.contact_nodes, p.contact_surface, sol.sigma_n[r], sol.gap[r],
                                 sol.closed[r]),
-                 "tangential_force_n": tang, "stress_nodal_pa": s["nodal"],
+                 "tangential_force_n": tang, "friction_force_n": fric, "stress_nodal_pa": s["nodal"],
                  "von_mises_nodal_pa": s["nodal_von_mises"]}
         cell = {**base_cell, "stress_pa": s["cell"], "von_mises_pa": s["cell_von_mises"]}
         states.append({"point": point, "cell": cell,

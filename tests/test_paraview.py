@@ -143,6 +143,25 @@ def test_step1_stress_is_uniaxial_and_nodal_equals_cell(series):
     np.testing.assert_allclose(v.cell_data["von_mises_pa"][0][bottom], np.abs(szz), rtol=0.05)
 
 
+@pytest.mark.parametrize("method", ["penalty", "lagrange"])
+def test_friction_force_in_the_vtus_balances_the_shear(method, tmp_path):
+    """With tangential = friction (no stop, so only friction carries T): in every VTU the friction
+    force field summed over the nodes equals minus the applied horizontal load T lambda (the table
+    pushes against it) to 1e-9, and the circumferential field is that force's e_theta component."""
+    model = load(None, SMALL + ["contact.tangential=friction", "contact.friction=0.3", "contact.stop.side=none"])
+    mesh, system = condense_model(model)
+    df, summary, sol = solve_system(model, mesh, system, method)
+    write_outputs(tmp_path, model, system, sol, df, summary, mesh)
+    tx, ty, _ = model.load_vectors()["T_force"]
+    for (_, f, label), lam in zip(read_pvd(tmp_path / "result.pvd"), sol.load_factor):
+        v = meshio.read(f)
+        ff = v.point_data["friction_force_n"]
+        assert ff.sum(axis=0)[:2] == pytest.approx([-tx * lam, -ty * lam], abs=1e-9 * abs(tx)), label
+        t = np.arctan2(v.points[:, 1], v.points[:, 0])
+        np.testing.assert_allclose(v.point_data["tangential_force_n"], -ff[:, 0] * np.sin(t) + ff[:, 1] * np.cos(t),
+                                   atol=1e-9 * abs(tx))
+
+
 def test_no_series_without_outputs_vtu(tmp_path):
     model = load(None, SMALL + ["outputs.vtu=false"])
     mesh, system = condense_model(model)
