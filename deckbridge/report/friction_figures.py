@@ -25,7 +25,7 @@ from ..azimuth import snap_deg
 from ..compare.load_path import centred
 from ..friction_table import state_rows, states
 from .figures import colours
-from .load_path_figures import _fig
+from .load_path_figures import _fig, theta_lambda_map_figure
 
 STICK, SLIP, OPEN = 0, 1, 2
 CODES = {"0": "stick", "1": "slip", "2": "open"}
@@ -117,21 +117,9 @@ def tau_sigma_figure(point, labels: list[str], data: dict, azimuth_deg: float):
 
 def stick_map_figure(data: dict, labels: list[str]):
     """theta x lambda stick / slip / open of the table per source."""
-    have = [lab for lab in labels if lab in data]
-    fig = _fig(4.0 * max(1, len(have)), 3.4)
-    axs = np.atleast_1d(fig.subplots(1, max(1, len(have))))
-    cmap = ListedColormap(["#2ca02c", "#ff7f0e", "#7f7f7f"])
-    for ax, lab in zip(axs, have):
-        m = data[lab]["stick_map"]
-        ax.pcolormesh(np.asarray(m["theta_deg"]), np.asarray(m["load_factor"]), np.asarray(m["status"]),
-                      shading="nearest", cmap=cmap, vmin=-0.5, vmax=2.5)
-        ax.set_title(lab, fontsize=8)
-        ax.set_xlabel("θ [deg]")
-        ax.set_ylabel("λ")
-        ax.set_xticks(np.arange(0, 361, 90))
-    fig.suptitle("table friction: green stick, orange slip (some node), grey open through the wall", fontsize=9)
-    fig.tight_layout()
-    return fig
+    maps = {lab: data[lab]["stick_map"] for lab in labels if lab in data}
+    return theta_lambda_map_figure(maps, labels, ListedColormap(["#2ca02c", "#ff7f0e", "#7f7f7f"]), -0.5, 2.5,
+                                   "table friction: green stick, orange slip (some node), grey open through the wall")
 
 
 def resultant_figure(data: dict, labels: list[str]):

@@ -59,22 +59,30 @@ def load_path_figure(paths: dict[str, dict], labels: list[str]) -> Figure:
     return fig
 
 
-def status_map_figure(maps: dict[str, dict], labels: list[str]) -> Figure:
-    """theta x lambda contact status per source: 0 closed, 1 partly open through the wall, 2 open."""
-    n = max(1, len([lab for lab in labels if lab in maps]))
-    fig = _fig(4.0 * n, 3.4)
-    axs = np.atleast_1d(fig.subplots(1, n))
-    for ax, lab in zip(axs, [lab for lab in labels if lab in maps]):
+def theta_lambda_map_figure(maps: dict[str, dict], labels: list[str], cmap, vmin: float, vmax: float,
+                            title: str) -> Figure:
+    """One theta x lambda map per source of ``labels`` found in ``maps`` ({'theta_deg', 'load_factor',
+    'status'} each), coloured by ``cmap`` over [vmin, vmax], under the suptitle ``title``."""
+    have = [lab for lab in labels if lab in maps]
+    fig = _fig(4.0 * max(1, len(have)), 3.4)
+    axs = np.atleast_1d(fig.subplots(1, max(1, len(have))))
+    for ax, lab in zip(axs, have):
         m = maps[lab]
-        th, lam = np.asarray(m["theta_deg"]), np.asarray(m["load_factor"])
-        ax.pcolormesh(th, lam, np.asarray(m["status"]), shading="nearest", cmap="RdYlGn_r", vmin=0, vmax=2)
+        ax.pcolormesh(np.asarray(m["theta_deg"]), np.asarray(m["load_factor"]), np.asarray(m["status"]),
+                      shading="nearest", cmap=cmap, vmin=vmin, vmax=vmax)
         ax.set_title(lab, fontsize=8)
         ax.set_xlabel("θ [deg]")
         ax.set_ylabel("λ")
         ax.set_xticks(np.arange(0, 361, 90))
-    fig.suptitle("contact status: green closed, yellow partly open, red open through the wall", fontsize=9)
+    fig.suptitle(title, fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def status_map_figure(maps: dict[str, dict], labels: list[str]) -> Figure:
+    """theta x lambda contact status per source: 0 closed, 1 partly open through the wall, 2 open."""
+    return theta_lambda_map_figure(maps, labels, "RdYlGn_r", 0, 2,
+                                   "contact status: green closed, yellow partly open, red open through the wall")
 
 
 def centred_figure(point, labels: list[str], azimuth_deg: float) -> Figure:
