@@ -7,6 +7,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+def _cone_check(ft: np.ndarray, fn: np.ndarray, mu: float, rtol: float) -> dict:
+    """Tangential forces ``ft`` [N] against mu x the compressive normal forces ``fn`` [N] (same shape,
+    increments x rows): violations above mu fn (1 + rtol) plus a floor of 1e-9 of the largest ft."""
+    floor = 1e-9 * (ft.max() if ft.size else 0.0)
+    viol = ft > mu * fn * (1 + rtol) + floor
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(fn > 0, ft / fn, np.where(ft > floor, np.inf, 0.0))
+    return {"mu": mu, "violations": int(viol.sum()),
+            "violations_last_increment": int(viol[-1].sum()) if viol.size else 0,
+            "max_ratio_ft_fn": float(ratio.max()) if ratio.size else 0.0}
+
+
 @dataclass
 class Solution:
     """Contact results per increment (rows) and contact row / spring (columns).
@@ -59,27 +71,12 @@ class Solution:
         compared with mu times its own normal force instead.
         """
         if self.tangential_force is not None:
-            fn_r = np.maximum(self.force, 0.0)
-            ft_r = np.linalg.norm(self.tangential_force, axis=2)
-            floor_r = 1e-9 * (ft_r.max() if ft_r.size else 0.0)
-            viol_r = ft_r > mu * fn_r * (1 + 1e-9) + floor_r
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ratio_r = np.where(fn_r > 0, ft_r / fn_r, np.where(ft_r > floor_r, np.inf, 0.0))
-            return {"mu": mu, "violations": int(viol_r.sum()),
-                    "violations_last_increment": int(viol_r[-1].sum()) if viol_r.size else 0,
-                    "max_ratio_ft_fn": float(ratio_r.max()) if ratio_r.size else 0.0,
+            return {**_cone_check(np.linalg.norm(self.tangential_force, axis=2), np.maximum(self.force, 0.0), mu,
+                                  rtol=1e-9),
                     "slipping_last_increment": int(np.sum(self.stick_status[-1] == "slip"))}
         fn = np.zeros((self.force.shape[0], problem.n_nodes))
         np.add.at(fn.T, problem.contact_nodes, self.force.T)
-        fn_s = np.maximum(fn[:, problem.spring_nodes], 0.0)
-        ft = np.abs(self.spring_force)
-        floor = 1e-9 * (ft.max() if ft.size else 0.0)
-        viol = ft > mu * fn_s * (1 + 1e-12) + floor
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(fn_s > 0, ft / fn_s, np.where(ft > floor, np.inf, 0.0))
-        return {"mu": mu, "violations": int(viol.sum()),
-                "violations_last_increment": int(viol[-1].sum()) if viol.size else 0,
-                "max_ratio_ft_fn": float(ratio.max()) if ratio.size else 0.0}
+        return _cone_check(np.abs(self.spring_force), np.maximum(fn[:, problem.spring_nodes], 0.0), mu, rtol=1e-12)
 
     def recover_step_ends(self, system, retained: np.ndarray) -> None:
         """Global displacements (n, 3) [m] at the end of steps 1 and 2 into ``fields``, by one
