@@ -76,7 +76,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
             run = runner.run(job, timeout_s=ccx_timeout_s,
                              progress=lambda line: line.lower().startswith("increment") and echo(f"  ccx {line}"))
             echo(f"ccx: {job.name} finished in {run.seconds:.1f} s")
-            wall = ccx_wall(job.with_suffix(".dat"), mesh, model.steps.lambda_max)
+            wall = ccx_wall(job.with_suffix(".dat"), model, mesh)
             tables.append(SourceResult(read(job.with_suffix(".frd"), fmt=calculix.reader, model=model), str(job),
                                        wall=wall))
             if model.outputs.vtu:       # ParaView series <job>.pvd + <job>_NNN.vtu

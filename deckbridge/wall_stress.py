@@ -44,21 +44,18 @@ def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.Dat
     return pd.concat(frames, ignore_index=True)[WALL_COLUMNS]
 
 
-def ccx_wall(dat: Path, mesh, lambda_max: float) -> pd.DataFrame | None:
-    """Wall table of a ccx job from its ``.dat`` *EL PRINT S blocks; None when the deck printed none.
-    ccx total time t: step 1 for t <= 1 (lambda 0), else step 2 with lambda = lambda_max (t - 1)."""
-    from .readers.ccx_el_stress import base_wall_table, read_el_stress
+def ccx_wall(dat: Path, model, mesh=None) -> pd.DataFrame | None:
+    """Wall table of a ccx job from its ``.dat`` *EL PRINT S blocks (SI, whatever the deck's units: read by
+    :func:`deckbridge.readers.ccx_el_stress.read_base_wall`); None when the deck printed none."""
+    from .readers.ccx_el_stress import read_base_wall
     try:
-        raw = read_el_stress(dat)
+        t = read_base_wall(dat, model, mesh=mesh)
     except DeckbridgeError as exc:
-        if "no '*EL PRINT'" in str(exc) or "cannot read" in str(exc):
+        if "no '*EL PRINT" in str(exc) or "cannot read" in str(exc):
             return None
         raise
-    t = base_wall_table(raw, mesh)
-    step = np.where(t["time"].to_numpy() <= 1.0 + 1e-12, 1, 2)
-    lam = np.where(step == 1, 0.0, lambda_max * (t["time"].to_numpy() - 1.0))
-    inc = pd.Series(t["time"]).groupby(step).rank(method="dense").to_numpy(np.int64)
-    t = t.assign(step=step, increment=inc, load_factor=lam, theta_deg=snap_deg(t["theta_deg"]))
+    inc = pd.Series(t["time"]).groupby(t["step"].to_numpy()).rank(method="dense").to_numpy(np.int64)
+    t = t.assign(increment=inc, theta_deg=snap_deg(t["theta_deg"]))
     return t[WALL_COLUMNS]
 
 
@@ -102,11 +99,10 @@ def reference_section_onset(system: rs.CondensedSystem, mesh, sol: rs.Solution) 
 def with_ccx_wall(table: pd.DataFrame, path, model):
     """A :class:`~deckbridge.results.SourceResult` of a ccx result ``path`` (file of one job) with its
     base-wall table when the job's ``.dat`` holds *EL PRINT S and the model is known; else the table."""
-    from .mesh import build_mesh
     from .results import SourceResult
     p = Path(str(path))
     dat = p.with_suffix(".dat")
     if model is None or p.is_dir() or not dat.is_file():
         return table
-    wall = ccx_wall(dat, build_mesh(model), model.steps.lambda_max)
+    wall = ccx_wall(dat, model)
     return table if wall is None else SourceResult(table, str(path), wall=wall)

@@ -136,7 +136,7 @@ def ccx(tmp_path_factory):
     path.write_text(text.replace("*STEP, NLGEOM, INC=", "*STEP, INC="))
     dat = run(path, timeout_s=180).dat
     src = SourceResult(read(path.with_suffix(".frd"), model=model), str(path),
-                       wall=ccx_wall(dat, mesh, model.steps.lambda_max))
+                       wall=ccx_wall(dat, model, mesh))
     return model, mesh, src
 
 

@@ -161,7 +161,7 @@ def deck_units(path: str | Path, model=None) -> str:
     return getattr(model, "units", "SI")
 
 
-def read_base_wall(path: str | Path, model) -> pd.DataFrame:
+def read_base_wall(path: str | Path, model, mesh=None) -> pd.DataFrame:
     """Base wall stresses of the deckbridge ccx job at ``path`` (its ``.dat``, ``.inp`` or stem) of ``model``.
 
     Columns: step, load_factor (0 in step 1; lambda_max x step time in step 2), time, theta_deg,
@@ -177,7 +177,7 @@ def read_base_wall(path: str | Path, model) -> pd.DataFrame:
         raise DeckbridgeError(f"{dat}: no '*EL PRINT, ELSET=EBASE' stress block")
     stress = stress.copy()
     stress[COLUMNS] = stress[COLUMNS] / scale(deck_units(dat, model)).stress
-    table = base_wall_table(stress, build_mesh(model))
+    table = base_wall_table(stress, mesh if mesh is not None else build_mesh(model))
     step = np.where(table["time"] <= 1.0 + 1e-9, 1, 2)
     table.insert(0, "load_factor", np.where(step == 1, 0.0, model.steps.lambda_max * (table["time"] - 1.0)))
     table.insert(0, "step", step)
