@@ -13,3 +13,18 @@ def read_text(path: str | Path) -> str:
         return Path(path).read_text(errors="replace")
     except OSError as exc:
         raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
+
+
+INP_UNITS_TAG = "** deckbridge-units:"
+
+
+def inp_deck_units(path: str | Path, model=None) -> str:
+    """Units of an inp-family job (Abaqus, CalculiX): the ``** deckbridge-units:`` line in the first 400
+    lines of the ``.inp`` beside ``path``, else the model's units, else 'SI'."""
+    inp = Path(path).with_suffix(".inp")
+    if inp.is_file():
+        with open(inp, errors="replace") as fh:
+            for _, line in zip(range(400), fh):
+                if line.startswith(INP_UNITS_TAG):
+                    return line[len(INP_UNITS_TAG):].strip()
+    return getattr(model, "units", "SI")

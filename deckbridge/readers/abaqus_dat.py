@@ -32,7 +32,7 @@ import pandas as pd
 
 from ..dialects import DIALECTS
 from ..errors import DeckbridgeError
-from ._files import read_text
+from ._files import inp_deck_units, read_text
 from ._registry import register
 from ..results import with_forces
 from ..units import scale
@@ -151,16 +151,6 @@ def _surface(raw: pd.DataFrame, located: pd.DataFrame) -> np.ndarray:
     return np.where(hint == "", by_model, hint)
 
 
-def _deck_units(path: Path, model) -> str:
-    """The ``** deckbridge-units:`` of the job's ``.inp`` beside the ``.dat``, else the model's units."""
-    inp = path.with_suffix(".inp")
-    if inp.is_file():
-        for line in read_text(inp).splitlines()[:400]:
-            if line.startswith("** deckbridge-units:"):
-                return line.split(":", 1)[1].strip()
-    return model.units
-
-
 @register("abaqus_dat", detect=detect)
 @checked(None)
 def read(path: Path, model=None) -> pd.DataFrame:
@@ -176,7 +166,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
         raise DeckbridgeError(f"{str(path)!r}: step {bad[0]} is not in the load path (1 = N, 2 = N + lambda (T, M))")
     model = model or load(None)
     located = locate(raw["node"].to_numpy(), model, path)
-    u = scale(_deck_units(path, model))
+    u = scale(inp_deck_units(path, model))
     cpress = raw["CPRESS"].to_numpy(float) / u.stress
     copen = (raw["COPEN"].to_numpy(float) / u.length) if "COPEN" in raw else np.full(len(raw), np.nan)
     word = raw["status_word"].to_numpy()

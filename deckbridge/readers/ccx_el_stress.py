@@ -35,6 +35,7 @@ from reference_solver.stress import CCX_TO_VOIGT, base_wall, extrapolate_to_corn
 
 from ..errors import DeckbridgeError
 from ..numbering.skirt import bottom_row_index, elem_ids
+from ._files import inp_deck_units
 
 COLUMNS = ["sxx", "syy", "szz", "sxy", "sxz", "syz"]     # ccx order, [Pa]
 N_IP = 8
@@ -149,18 +150,6 @@ def base_wall_table(stress: pd.DataFrame, mesh) -> pd.DataFrame:
     return pd.concat(out, ignore_index=True)
 
 
-def deck_units(path: str | Path, model=None) -> str:
-    """Units of a ccx job: the ``** deckbridge-units:`` line of the ``.inp`` beside ``path``, else the
-    model's, else 'SI'."""
-    inp = Path(path).with_suffix(".inp")
-    if inp.is_file():
-        with open(inp, errors="replace") as fh:
-            for _, line in zip(range(400), fh):
-                if line.startswith("** deckbridge-units:"):
-                    return line.split(":", 1)[1].strip()
-    return getattr(model, "units", "SI")
-
-
 def read_base_wall(path: str | Path, model, mesh=None) -> pd.DataFrame:
     """Base wall stresses of the deckbridge ccx job at ``path`` (its ``.dat``, ``.inp`` or stem) of ``model``.
 
@@ -176,7 +165,7 @@ def read_base_wall(path: str | Path, model, mesh=None) -> pd.DataFrame:
     if stress.empty:
         raise DeckbridgeError(f"{dat}: no '*EL PRINT, ELSET=EBASE' stress block")
     stress = stress.copy()
-    stress[COLUMNS] = stress[COLUMNS] / scale(deck_units(dat, model)).stress
+    stress[COLUMNS] = stress[COLUMNS] / scale(inp_deck_units(dat, model)).stress
     table = base_wall_table(stress, mesh if mesh is not None else build_mesh(model))
     step = np.where(table["time"] <= 1.0 + 1e-9, 1, 2)
     table.insert(0, "load_factor", np.where(step == 1, 0.0, model.steps.lambda_max * (table["time"] - 1.0)))

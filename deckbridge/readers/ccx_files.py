@@ -14,12 +14,12 @@ import numpy as np
 from ..errors import DeckbridgeError
 from ..mesh import build_mesh
 from ..numbering.skirt import mesh_node_ids
-from ._files import read_text
+from ._files import INP_UNITS_TAG, read_text
 
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
 _DAT_CONTACT = re.compile(r"^\s*contact stress \(slave node,press,tang1,tang2\) for all contact elements and time\s+(\S+)")
 _META_N2F = "** deckbridge-n2f "
-_META_UNITS = "** deckbridge-units:"
+_META_UNITS = INP_UNITS_TAG
 _META_JOB = "** deckbridge-job"
 _META_SLAVE = "** deckbridge-slave "
 
