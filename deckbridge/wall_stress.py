@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 import reference_solver as rs
+from reference_solver.recover import path_fields
 from reference_solver.section_onset import section_onset
 from reference_solver.stress import reference_base_wall
 
@@ -32,7 +33,7 @@ WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa",
 
 def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.DataFrame:
     """Wall table of every state of a reference solution (one recovery solve for all of them)."""
-    U = system.recover(sol.u if sol.retained_u is None else sol.retained_u, sol.coeffs)   # friction: + tangential dofs
+    U = path_fields(system, sol)
     bottom = bottom_row_index(mesh)
     frames = []
     for i in range(sol.step.size):
