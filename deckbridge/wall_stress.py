@@ -10,8 +10,6 @@ deck wrote it (never the ``.frd`` nodal stresses).
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +23,7 @@ from reference_solver.stress import reference_base_wall
 from .azimuth import snap_deg
 from .errors import DeckbridgeError
 from .numbering.skirt import bottom_row_index
+from .outdir import write_text
 
 WALL_CSV = "wall_stress.csv"
 WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa", "szz_outer_pa",
@@ -61,13 +60,8 @@ def ccx_wall(dat: Path, model, mesh=None) -> pd.DataFrame | None:
 
 
 def write_wall(folder: Path, table: pd.DataFrame) -> Path:
-    """Write ``folder``/wall_stress.csv atomically (temporary file, then rename)."""
-    folder = Path(folder)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".wall_", suffix=".csv")
-    os.close(fd)
-    table.to_csv(tmp, index=False)
-    os.replace(tmp, folder / WALL_CSV)
-    return folder / WALL_CSV
+    """Write ``folder``/wall_stress.csv atomically (:func:`deckbridge.outdir.write_text`: mode from the umask)."""
+    return write_text(Path(folder) / WALL_CSV, table.to_csv(index=False))
 
 
 def read_wall(folder) -> pd.DataFrame | None:
