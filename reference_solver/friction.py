@@ -26,14 +26,21 @@ Each inner problem freezes the slip threshold mu p (Tresca) so that it minimises
 Newton with an energy line search, its steps low-rank (Woodbury) updates of one inverse of
 S + k (+ k_t) per path; the threshold is then updated to mu p (fixed point; for Lagrange together
 with the multipliers, Anderson-accelerated) until nothing changes to ``tol``.
-A tangential axis of a friction row that is the normal of another contact row of the node (a base
-node on the radial stop) carries no friction: the stop takes the force along it (with both rigid,
-the split would otherwise be indeterminate in the Lagrange method).
+Corner nodes (a base node on both the table and the radial stop; docs/friction.md): one tangent axis of
+the table row is the stop's normal (the radial), so that dof carries two forces, the stop's normal force
+and the table's friction. The rule (``FrictionSystem.corner``, by method :data:`CORNER_RULE`):
+- penalty, 'both' (as CalculiX's node-to-surface ``*FRICTION``): the table's friction acts on both tangent
+  axes; the split of the radial force is unique, by the stiffnesses (stop k_n, table k_t) and the cone;
+- Lagrange, 'stop' (stop first): the radial axis carries no table friction, the stop takes the force along
+  it. With both rigid the split is indeterminate (the node does not move radially); what is unique is the
+  node's whole horizontal force (stop normal + table friction), to be compared between methods and codes.
+  The mask is static: a corner node whose stop is OPEN while its table row is closed also gets no radial
+  friction (a known limit of this rule, docs/friction.md).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.linalg as sla
@@ -53,6 +60,8 @@ AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve us
 PREDICTOR_TOL = 1.0e-6    # relative settling of the Lagrange predictor's slip thresholds (a predictor only)
 LAGRANGE_SSN = True       # Lagrange: semi-smooth Newton (friction_ssn) instead of the augmented Lagrangian
 REGULARISER = 1.0e-6      # spring on the added tangential dofs during condensation, times E * L [N/m]
+CORNER_RULES = ("stop", "both")
+CORNER_RULE = {"penalty": "both", "lagrange": "stop"}   # the corner rule of each method (module docstring)
 
 
 @dataclass
@@ -67,11 +76,31 @@ class FrictionSystem:
     tdir: np.ndarray              # (nf, 2, 3) their global unit directions
     info: dict = field(default_factory=dict)
     cache: dict = field(default_factory=dict, repr=False)   # H0^-1 per (k, k_t), see _base_inverse
+    corner: str = "stop"          # corner rule: 'stop' (stop first) or 'both' (table friction on every axis)
+    views: dict = field(default_factory=dict, repr=False)   # this system under the other corner rule
 
     @property
     def tmask(self) -> np.ndarray:
-        """(nf, 2) tangential axes that carry friction: not the normal of another contact row."""
+        """(nf, 2) tangential axes that carry friction. Corner rule 'both': every axis; 'stop': not an
+        axis that is the normal of another contact row of the node (the stop's radial normal)."""
+        if self.corner == "both":
+            return np.ones(self.tdofs.shape, bool)
         return self.tdofs >= self.problem.n_contacts
+
+    @property
+    def corners(self) -> np.ndarray:
+        """(nf,) friction rows with an axis that is another contact row's normal (a base node on the stop)."""
+        return np.any(self.tdofs < self.problem.n_contacts, axis=1)
+
+    def with_corner(self, corner: str) -> "FrictionSystem":
+        """This system under the corner rule ``corner`` (shares S and the condensation; one view per rule)."""
+        if corner not in CORNER_RULES:
+            raise ReferenceSolverError(f"corner = {corner!r}: must be one of {', '.join(CORNER_RULES)}")
+        if corner == self.corner:
+            return self
+        if corner not in self.views:
+            self.views[corner] = replace(self, corner=corner, cache={}, views={self.corner: self})
+        return self.views[corner]
 
     @property
     def case_names(self):

@@ -17,7 +17,7 @@ import numpy as np
 
 from .contact import Unbounded
 from .errors import ReferenceSolverError, no_equilibrium
-from .friction import FrictionSystem, GrossSlip, NotConverged, State, solve_increment
+from .friction import CORNER_RULE, FrictionSystem, GrossSlip, NotConverged, State, solve_increment
 from .solution import Solution
 
 QUICK_DEPTH = 2           # Lagrange: cutbacks tried with the direct Newton alone before its fallbacks
@@ -58,7 +58,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
                         algorithm: str | None = None, liftoff_surface: str | None = "table",
                         liftoff_tol: float = 1e-6, onset: str = "auto", recover: bool = True,
                         on_increment: Callable[[int, int, float], None] | None = None,
-                        on_gross_slip: str = "raise"):
+                        on_gross_slip: str = "raise", corner: str | None = None):
     """Run step 1 and step 2 with friction; returns a :class:`reference_solver.path.Solution`.
 
     ``targets``: load factors visited in order in step 2 (default ``[lambda_max]``), ``increments``
@@ -79,6 +79,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
         raise ReferenceSolverError(f"k_factor = {k_factor!r}: must be > 0")
     if on_gross_slip not in ("raise", "stop"):
         raise ReferenceSolverError(f"on_gross_slip = {on_gross_slip!r}: must be raise or stop")
+    sysf = sysf.with_corner(corner or CORNER_RULE[method])
     targets = [float(lambda_max)] if targets is None else [float(v) for v in targets]
     if increments < 1 or not targets or not all(np.isfinite(targets)):
         raise ReferenceSolverError("increments must be >= 1 and targets finite load factors")

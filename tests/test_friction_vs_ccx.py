@@ -8,9 +8,7 @@ Measured (24 x 6 x 1 mesh, distributing top, 2-core dev box, ccx 2.20), max |dif
   at lambda = 1 ccx cuts its increment back (1.9 -> 2.0 in steps of 0.025) and lands 67 % away from the
   reference (peak sigma_N -99 MPa against -73 MPa, both balancing N and M + T H), while the reference
   does not move with the increments (10 or 40: 0.02 %): not resolved, left out of the test.
-- With the default inner stop the reference lets the stop alone carry the radial force of a base node on
-  both table and stop (no table friction along the stop's normal), ccx does not: |tau| then differs by
-  25-55 % (sigma_N 0.13 %).
+- With the default inner stop: tests/test_friction_stop_vs_ccx.py (the penalty corner rule 'both', as ccx).
 """
 
 import shutil

@@ -36,9 +36,14 @@ class Ring:
     face: str
 
 
-def ring(radii, zs, n_theta: int, first_node: int, first_elem: int, face: str) -> Ring:
-    """Hexahedra between ``radii`` (2 values) and ``zs`` (2 values) at the skirt's azimuths."""
-    theta = 2.0 * np.pi * np.arange(n_theta) / n_theta
+def ring(radii, zs, n_theta: int, first_node: int, first_elem: int, face: str, centred: bool = False) -> Ring:
+    """Hexahedra between ``radii`` (2 values) and ``zs`` (2 values) at the skirt's azimuths; ``centred``:
+    the azimuths shifted by half a spacing and the radii divided by cos(pi / n_theta), so that each skirt
+    azimuth meets the middle of a face at the given radius, where the face's normal is exactly radial (a
+    node on the corner between two faces gets either face's normal, pi / n_theta off the radial)."""
+    theta = 2.0 * np.pi * (np.arange(n_theta) + (0.5 if centred else 0.0)) / n_theta
+    if centred:
+        radii = [r / np.cos(np.pi / n_theta) for r in radii]
     pts = [(r * np.cos(t), r * np.sin(t), z) for z in zs for r in radii for t in theta]
     nodes = np.array(pts, float)
     ids = first_node + np.arange(nodes.shape[0])
@@ -82,9 +87,10 @@ class Layout:
         return self.next_elem + self.mesh.table.nodes.size
 
 
-def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> Layout:
+def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = (), centred_stop: bool = False) -> Layout:
     """Number the deck: skirt, reference node, and the fixed master rings named in ``masters``
-    (``"table"``, ``"stop"``; the stop ring only when the model has a stop)."""
+    (``"table"``, ``"stop"``; the stop ring only when the model has a stop; ``centred_stop``: its faces
+    centred on the skirt's azimuths, see :func:`ring`)."""
     g = model.geometry
     n_nodes, n_elems = mesh.n_nodes, mesh.hexes.shape[0]
     nt, nr, nz = mesh.n_theta, mesh.n_r, mesh.n_z
@@ -108,7 +114,7 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
             radii, face = [r_stop - t, r_stop], FACE_OUTER
         else:
             radii, face = [r_stop, r_stop + t], FACE_INNER
-        stop_master = ring(radii, [-h1 / 2, h1 / 2], nt, next_node, next_elem, face)
+        stop_master = ring(radii, [-h1 / 2, h1 / 2], nt, next_node, next_elem, face, centred=centred_stop)
         next_node += stop_master.node_ids.size
         next_elem += stop_master.elem_ids.size
     # element index e = (k * n_r + i) * n_theta + j  (k along z, i through the wall, j around)
@@ -143,7 +149,7 @@ def ccx_layout(model: Model, mesh: SkirtMesh, method: str) -> Layout:
     """Numbering of the CalculiX ``method`` deck ('penalty': GAPUNI gaps only, or table and stop rings for
     node-to-surface contact; 'mortar': table ring)."""
     key = "penalty_n2f" if method == "penalty" and ccx_penalty_is_n2f(model) else method
-    return layout(model, mesh, masters=CCX_MASTERS[key])
+    return layout(model, mesh, masters=CCX_MASTERS[key], centred_stop=True)   # a radial stop normal at every slave
 
 
 def ccx_node_slave_areas(mesh: SkirtMesh) -> np.ndarray:
