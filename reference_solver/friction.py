@@ -34,8 +34,10 @@ and the table's friction. The rule (``FrictionSystem.corner``, by method :data:`
 - Lagrange, 'stop' (stop first): the radial axis carries no table friction, the stop takes the force along
   it. With both rigid the split is indeterminate (the node does not move radially); what is unique is the
   node's whole horizontal force (stop normal + table friction), to be compared between methods and codes.
-  The mask is static: a corner node whose stop is OPEN while its table row is closed also gets no radial
-  friction (a known limit of this rule, docs/friction.md).
+  While the stop is open (g > 0, or no compressive force) the table's friction acts on the radial too
+  (:meth:`FrictionSystem.axes`, evaluated per Newton iterate by the semi-smooth Newton): the limit of the
+  penalty split as k_stop / k_t -> infinity. The augmented-Lagrangian last resort keeps the radial of
+  every corner off the table's friction (the static mask ``tmask``).
 """
 
 from __future__ import annotations
@@ -86,6 +88,15 @@ class FrictionSystem:
         if self.corner == "both":
             return np.ones(self.tdofs.shape, bool)
         return self.tdofs >= self.problem.n_contacts
+
+    def axes(self, active: np.ndarray) -> np.ndarray:
+        """(nf, 2) tangential axes that carry friction in the contact state ``active`` (nc,): the corner
+        rule 'stop' gives a corner's radial axis back to the table's friction while the stop is open."""
+        m = self.tmask
+        if self.corner == "stop":
+            nc = self.problem.n_contacts
+            m = m | ((self.tdofs < nc) & ~np.asarray(active, bool)[np.minimum(self.tdofs, nc - 1)])
+        return m
 
     @property
     def corners(self) -> np.ndarray:
@@ -376,8 +387,8 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
     if LAGRANGE_SSN:
         try:
             return solve_lagrange_increment(sysf, f, prev, mu, max_disp, predictor=None if quick else (
-                lambda kp, ktp: solve_increment(sysf, "penalty", f, prev, kp, 1e-12 * kp, ktp, mu, max_disp,
-                                                tol=PREDICTOR_TOL)))
+                lambda kp, ktp: solve_increment(sysf.with_corner("both"), "penalty", f, prev, kp, 1e-12 * kp, ktp,
+                                                mu, max_disp, tol=PREDICTOR_TOL)))
         except NotConverged:
             if quick:
                 raise                                  # the caller cuts the increment back first

@@ -41,7 +41,7 @@ def _outputs(sysf: FrictionSystem, method, states, kt):
         s = st.x[sysf.tdofs]
         s0 = np.zeros_like(s) if prev is None else prev.x[sysf.tdofs]
         t0 = np.zeros_like(st.t) if prev is None else prev.t
-        d = np.where(sysf.tmask, s - s0, 0.0)
+        d = np.where(sysf.axes(st.active), s - s0, 0.0)
         if method == "penalty":
             d = d + (st.t - t0) / kt[:, None]          # minus the elastic part: the slip (plastic) increment
         d = np.where(st.active[fr][:, None], d, 0.0)

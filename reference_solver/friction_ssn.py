@@ -8,7 +8,7 @@ alone. One equation per retained dof (force units, N):
 
 - normal dof of row j, ``sigma = p - rho_n g`` (g = clearance + x_n, > 0 open):
   ``C = p - max(0, sigma)``, i.e. ``rho_n g`` when closed (sigma > 0), ``p`` when open;
-- tangential axes of a closed friction row (the axes that are not the normal of another row),
+- tangential axes of a closed friction row (the corner rule's axes in the current state, FrictionSystem.axes),
   ``xi = t - rho_t (s - s_ref)``, ``q = mu sigma``: ``C = t - proj_{|.| <= q}(xi)``, i.e.
   ``rho_t (s - s_ref)`` in stick (|xi| <= q) and ``t - q xi / |xi|`` in slip; of an open row ``C = t``;
 - any other dof: ``C = lam`` (no force).
@@ -35,12 +35,14 @@ RHO_N = 1.0
 RHO_T = 1.0
 
 
-def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None):
+def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None, sysf=None):
     """Residual C (nr,), the known-dof mask, and the pieces of the Jacobian at ``x``."""
     lam = S @ x - f
     g = clear + x[:nc]
     sig = lam[:nc] - rho_n * g
     act = sig > 0
+    if m is None:                                             # the corner rule's axes in this contact state
+        m = sysf.axes(act)
     C = lam.copy()
     C[:nc] = np.where(act, rho_n * g, lam[:nc])
     t = lam[td] * m                                           # (nf, 2) tangential forces, free axes only
@@ -54,7 +56,7 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None
     nv = np.divide(xi, nxi[:, None], out=np.zeros_like(xi), where=nxi[:, None] > 0)
     ct = np.where(stick[:, None], rho_t * ds, np.where(slip[:, None], t - q[:, None] * nv, t))
     C[td[m]] = ct[m]
-    return C, lam, act, stick, slip, nv, nxi, q, t
+    return C, lam, act, stick, slip, nv, nxi, q, t, m
 
 
 def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, predictor=None):
@@ -93,21 +95,21 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     """
     pr = sysf.problem
     S, nc, nr = sysf.S, pr.n_contacts, sysf.S.shape[0]
-    fr, td, m = sysf.rows, sysf.tdofs, sysf.tmask
+    fr, td = sysf.rows, sysf.tdofs
     d = np.diag(S)
     rho_n, rho_t = rho * RHO_N * d[:nc], rho * RHO_T * d[td].mean(axis=1)[:, None]
     clear = pr.contact_clearance
     s_ref = prev.x[td]
     nf = fr.size
     fi = np.repeat(np.arange(nf), 2).reshape(nf, 2)           # friction row of each tangential axis
-    tflat, fflat = td[m], fi[m]
     scale = max(np.abs(f).max(), 1e-300)
-    args = (S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix)
+    args = (S, f, nc, clear, rho_n, rho_t, fr, td, None, mu, s_ref, qfix, sysf)   # axes per state
     x = np.array(prev.x if x0 is None else x0, float)
     ev = _equations(x, *args)
     allslip = 0
     for it in range(1, maxit + 1):
-        C, lam, act, stick, slip, nv, nxi, q, t = ev
+        C, lam, act, stick, slip, nv, nxi, q, t, m = ev
+        tflat, fflat = td[m], fi[m]
         cmax = np.abs(C).max()
         if cmax <= tol * max(scale, np.abs(lam).max()):
             moving = np.linalg.norm((x[td] - s_ref) * m, axis=1) > 1e-12 * (np.abs(x).max() + 1e-300)

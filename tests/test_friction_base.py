@@ -25,7 +25,7 @@ from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.solve import build_problem
 
-SMALL = ("mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=2", "contact.tangential=friction")
+SMALL = ("mesh.n_theta=24", "mesh.n_z=6", "contact.tangential=friction")
 
 
 @lru_cache(maxsize=None)
@@ -45,7 +45,7 @@ def _step1(system, method):
 @pytest.mark.parametrize("stop", ["inner", "none"])
 @pytest.mark.parametrize("method", ["penalty", "lagrange"])
 def test_without_poisson_n_alone_leaves_no_tangential_force(method, stop):
-    model, p, system = _system("material.nu=0", "load_introduction=kinematic", "contact.friction=0.3",
+    model, p, system = _system("mesh.n_r=2", "material.nu=0", "load_introduction=kinematic", "contact.friction=0.3",
                                f"contact.stop.side={stop}")
     i, sol = _step1(system, method)
     tab = p.contact_surface == "table"
@@ -53,7 +53,7 @@ def test_without_poisson_n_alone_leaves_no_tangential_force(method, stop):
     assert np.abs(sol.tangential_force[i]).max() <= 1e-9 * N / tab.sum()
     assert np.abs(sol.force[i, ~tab]).max(initial=0.0) <= 1e-9 * N / tab.sum()      # the stop carries nothing
     assert abs(sol.force[i, tab].sum() - N) <= 1e-9 * N
-    nonzero = _system("load_introduction=kinematic", "contact.friction=0.3", f"contact.stop.side={stop}")
+    nonzero = _system("mesh.n_r=2", "load_introduction=kinematic", "contact.friction=0.3", f"contact.stop.side={stop}")
     j, with_nu = _step1(nonzero[2], method)
     assert np.abs(with_nu.tangential_force[j]).max() > 1e-3 * N / tab.sum()          # nu = 0.3: friction works
 
@@ -72,9 +72,14 @@ def _bonded_reactions(p):
     return (K[fixed] @ u - f.ravel()[fixed]).reshape(-1, 3)
 
 
-@pytest.mark.parametrize("stop", ["none", "inner"])
-def test_large_friction_is_a_bonded_base(stop):
-    model, p, system = _system("contact.friction=1000", f"contact.stop.side={stop}")
+@pytest.mark.parametrize("stop, radius, closed", [("none", "null", None), ("inner", "null", True),
+                                                  ("outer", "null", True), ("inner", "1.48", False)])
+def test_large_friction_is_a_bonded_base(stop, radius, closed):
+    """With a stop touching the wall the bonded base pushes the corner nodes onto it (the stop takes their
+    radial force, Lagrange rule 'stop first'); with a stop 5 mm off the wall it stays open and the
+    table's friction holds the corner nodes radially."""
+    model, p, system = _system("mesh.n_r=2", "contact.friction=1000", f"contact.stop.side={stop}",
+                               f"contact.stop.radius={radius}")
     i, sol = _step1(system, "lagrange")
     tab = np.flatnonzero(p.contact_surface == "table")
     whole = sol.force[i][:, None] * p.contact_normals + sol.tangential_force[i]     # contact force per row [N]
@@ -82,8 +87,8 @@ def test_large_friction_is_a_bonded_base(stop):
     np.add.at(per_node, p.contact_nodes, whole)                                      # table + stop at a node
     expected = _bonded_reactions(p)
     assert np.all(sol.stick_status[i][tab] == "stick")
-    if stop != "none":                       # the stop is closed and takes the corner's radial force (Lagrange)
-        assert np.all(sol.force[i, p.contact_surface == "stop"] > 0)
+    if closed is not None:                   # the stop closed (it takes the corner's radial force) or open
+        assert np.all((sol.force[i, p.contact_surface == "stop"] > 0) == closed)
     got = per_node[p.contact_nodes[tab]]
     assert np.abs(got - expected).max() <= 1e-6 * np.abs(expected).max()
     assert np.abs(expected[:, :2]).max() > 1e-3 * np.abs(expected[:, 2]).max()      # the base does hold it back
