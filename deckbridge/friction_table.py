@@ -9,7 +9,12 @@ the node in global xyz [N] (it opposes the slip: in stick Sum F_t = -T lambda wi
 ``ft_r_n`` = F_t . e_r with e_r = (cos t, sin t, 0) (radial, outwards > 0), ``ft_n`` = |F_t| [N];
 ``area_m2`` the node's tributary contact area, ``tau_pa`` = |F_t| / area [Pa] (one node; through the
 wall see :func:`deckbridge.quantities.tangential_traction`); ``mu_fn_n`` = mu max(force_n, 0) [N], the
-Coulomb bound; ``stick_status``: stick | slip | open | frictionless (a surface without friction).
+Coulomb bound; ``stick_status``: stick | slip | open | frictionless (a surface without friction);
+``node_fh_r_n``, ``node_fh_theta_n``: the node's whole horizontal contact force (normal + tangential of
+every row of the node, summed over table and stop), radial (outwards > 0) and circumferential [N], the same
+on each row of the node. At a base node on both table and stop this is the compared quantity: its split
+into stop normal and table friction follows the method's corner rule and is not unique in Lagrange
+(docs/friction.md).
 """
 
 from __future__ import annotations
@@ -21,7 +26,8 @@ import pandas as pd
 
 FRICTION_CSV = "friction.csv"
 COLUMNS = ["step", "increment", "load_factor", "node", "surface", "theta_deg", "wall", "fn_x_n", "fn_y_n", "fn_z_n",
-           "ft_x_n", "ft_y_n", "ft_z_n", "ft_theta_n", "ft_r_n", "ft_n", "area_m2", "tau_pa", "mu_fn_n", "stick_status"]
+           "ft_x_n", "ft_y_n", "ft_z_n", "ft_theta_n", "ft_r_n", "ft_n", "area_m2", "tau_pa", "mu_fn_n", "stick_status",
+           "node_fh_r_n", "node_fh_theta_n"]
 STATUSES = ("stick", "slip", "open", "frictionless")
 
 
@@ -46,6 +52,10 @@ def friction_table(contact: pd.DataFrame, sol, mu: float, normals: np.ndarray) -
                      ft_n=mag, area_m2=area, tau_pa=mag / area,
                      mu_fn_n=mu * np.maximum(contact["force_n"].to_numpy(float), 0.0),
                      stick_status=np.asarray(sol.stick_status).ravel().astype(str))
+    whole = pd.DataFrame({"step": out["step"], "increment": out["increment"], "node": out["node"],
+                          "r": np.einsum("ij,ij->i", fn + ft, e_r), "t": np.einsum("ij,ij->i", fn + ft, e_theta)})
+    node_sum = whole.groupby(["step", "increment", "node"])[["r", "t"]].transform("sum")
+    out = out.assign(node_fh_r_n=node_sum["r"].to_numpy(), node_fh_theta_n=node_sum["t"].to_numpy())
     return out[COLUMNS]
 
 

@@ -82,6 +82,17 @@ def test_with_the_stop_the_whole_contact_force_balances_the_loads(tmp, method):
         f = rows[["fn_x_n", "fn_y_n", "fn_z_n"]].to_numpy().sum(0) + rows[["ft_x_n", "ft_y_n", "ft_z_n"]].to_numpy().sum(0)
         applied = np.array(lv["N_force"]) + lam * np.array(lv["T_force"])
         assert np.allclose(f, -applied, rtol=0, atol=1e-9 * model.loads.N)
+        node = rows.drop_duplicates(["node"])                 # the node's whole horizontal force, once a node
+        t = np.radians(node["theta_deg"].to_numpy())
+        r, c = node["node_fh_r_n"].to_numpy(), node["node_fh_theta_n"].to_numpy()
+        fh = np.array([np.sum(r * np.cos(t) - c * np.sin(t)), np.sum(r * np.sin(t) + c * np.cos(t))])
+        assert np.allclose(fh, -applied[:2], rtol=0, atol=1e-9 * model.loads.N)
+        corner = rows[rows["node"].isin(rows.loc[rows["surface"] == "stop", "node"])]
+        split = corner.groupby("node")[["fn_x_n", "ft_x_n"]].sum().sum(axis=1)    # table + stop rows, x
+        assert np.allclose(split.to_numpy(), corner.groupby("node").apply(
+            lambda g: g["node_fh_r_n"].iloc[0] * np.cos(np.radians(g["theta_deg"].iloc[0]))
+            - g["node_fh_theta_n"].iloc[0] * np.sin(np.radians(g["theta_deg"].iloc[0])), include_groups=False).to_numpy(),
+            rtol=0, atol=1e-9 * model.loads.N)
     summary = json.loads((out / "summary.json").read_text())
     r = summary["friction"][f"reference/{method}"]["resultant"]
     assert np.allclose(r["contact_along_t_n"], r["applied_t_n"], rtol=0, atol=1e-9 * model.loads.N)
