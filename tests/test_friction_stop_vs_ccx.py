@@ -9,9 +9,9 @@ at each slave is radial, as the reference's (on face corners ccx took either fac
 |tau| then differed by up to 6 %, antisymmetric about the load plane).
 
 Measured (24 x 6 x 1, mu = 0.3, lambda to 1 in 10 increments, 2-core dev box, ccx 2.20, ~1 s): max |difference|
-/ peak per increment: sigma_N (table and stop rows) <= 0.03 %, |F_t| <= 0.05 %. With the former corner rule
-(no table friction along the stop's normal) |tau| differed by 20-55 %.
-"""
+/ peak per increment: sigma_N table rows <= 0.03 %, stop rows <= 0.22 %, |F_t| <= 0.05 %. With the former corner
+rule (no table friction along the stop's normal) |tau| differed by 20-55 %; with the rule 'both' and the stop
+faces' corners at the slaves by up to 6.2 % (docs/friction.md, section 3)."""
 
 import shutil
 
