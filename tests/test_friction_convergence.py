@@ -16,6 +16,7 @@ lambda 0.7 / 0.8 / 0.9: Lagrange 491 / 387 / 567, penalty k 1e4 490 / 411 / 578.
 from functools import lru_cache
 
 import numpy as np
+import pytest
 
 import reference_solver as rs
 from deckbridge.mesh import build_mesh
@@ -67,3 +68,21 @@ def test_penalty_with_growing_stiffness_converges_to_the_lagrange_path_with_the_
     stop = ~tab
     fx = sx_lag + (lag.force[:, stop, None] * p.contact_normals[None, stop])[..., 0].sum(axis=1)
     assert np.allclose(fx, T, rtol=0, atol=1e-9 * model.loads.T)
+
+
+@pytest.mark.parametrize("method", ["penalty", "lagrange"])
+def test_with_the_stop_a_load_cycle_stays_in_the_cone_and_dissipates(method):
+    """Corner rules in use (penalty 'both', Lagrange 'stop' first, the stop opening and closing): loading to
+    lambda = 1 and back to 0, no row's |F_t| exceeds mu F_n beyond round-off, the dissipation of every
+    increment is >= 0, rows slip on the way, and the cycle leaves a residual tangential state."""
+    model, p, system = _system()
+    mu = model.contact.friction
+    sol = rs.solve_path(system, method, 1e3 if method == "penalty" else 1.0, recover=False, targets=[1.0, 0.0])
+    tn = np.linalg.norm(sol.tangential_force, axis=2)
+    assert np.all(tn <= mu * np.maximum(sol.force, 0.0) * (1 + 1e-9) + 1e-9 * tn.max())
+    assert np.all(sol.dissipation >= -1e-12 * sol.dissipation.max()) and sol.dissipation.max() > 0
+    assert np.any(sol.stick_status == "slip")
+    first = int(np.flatnonzero(sol.step == 1)[-1])                   # N alone, before the cycle
+    assert sol.load_factor[-1] == 0.0
+    assert np.abs(sol.tangential_force[-1] - sol.tangential_force[first]).max() > 1e-2 * tn.max()
+    assert np.any(np.isin(sol.stick_status[:, p.contact_surface == "stop"], ["open"]))
