@@ -131,11 +131,6 @@ def condense_friction(p: Problem, **kw) -> FrictionSystem:
                      "spring_dirs": np.vstack([p.spring_dirs.reshape(-1, 3), np.array(new_dirs).reshape(-1, 3)]),
                      "spring_k": np.concatenate([p.spring_k, np.full(nn, kreg)]),
                      "tangential": "springs"})
-    # The friction system retains every dof of its base nodes. With the trailing-factor Schur path
-    # (schur='trailing', the CHOLMOD default) such systems crashed the interpreter at exit (heap
-    # corruption seen in a single-hexahedron case; root cause not found), so they use the blocked
-    # right-hand-side Schur complement unless the caller asks otherwise.
-    kw.setdefault("schur", "rhs")
     base = condense(aug, **kw)
     S = base.S.copy()
     added = np.arange(p.n_contacts + p.n_springs, S.shape[0])
