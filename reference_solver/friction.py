@@ -314,7 +314,8 @@ def _unbounded(sysf, active, slip, strict=False):
 def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: State, k: np.ndarray,
                     k_open: np.ndarray, kt: np.ndarray, mu: float, max_disp: float,
                     rho: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 200,
-                    rho_steps: int = 1, rho_growth: float = 10.0, quick: bool = False) -> State:
+                    rho_steps: int = 1, rho_growth: float = 10.0, quick: bool = False,
+                    guess: np.ndarray | None = None) -> State:
     """One load increment from the converged state ``prev`` to the load ``f`` (penalty or Lagrange).
 
     Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange: the
@@ -341,7 +342,7 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
     if LAGRANGE_SSN:
         try:
-            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, predictor=None if quick else (
+            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, guess=guess, predictor=None if quick else (
                 lambda kp, ktp: solve_increment(sysf, "penalty", f, prev, kp, 1e-12 * kp, ktp, mu, max_disp,
                                                 tol=PREDICTOR_TOL)))
         except NotConverged:

@@ -13,10 +13,16 @@ alone. One equation per retained dof (force units, N):
   ``rho_t (s - s_ref)`` in stick (|xi| <= q) and ``t - q xi / |xi|`` in slip; of an open row ``C = t``;
 - any other dof: ``C = lam`` (no force).
 
+A closed row whose tangential increment points along its force (``t . (s - s_ref) > 0``: friction
+pushing the motion on) is taken as sticking in the iterates, so its next step returns it to ``s_ref``.
+No solution has such a row (stick: s = s_ref; slip: s - s_ref opposes t), so C = 0 is unchanged; without
+it the Newton iterates lock such rows in a wrong-way slip and drift (most increments past liftoff
+did not settle and were cut back). ``WRONG_WAY_STICK = False`` restores the plain classification.
+
 The generalised Jacobian is ``D_lam S + D_x`` with per-node blocks; the dofs whose equation is
 ``rho (x - x_target)`` (closed normals, sticking axes) are solved outright, so each Newton step
-solves a dense system on the open and slipping dofs only. Steps are damped by a backtracking line
-search on ``|C|^2 / 2`` and start from the previous increment (warm start). At the solution
+solves a dense system on the open and slipping dofs only. The iterates start from the path's
+estimate of the increment (warm start), else from the previous increment. At the solution
 g = 0 or p = 0 exactly, and s = s_ref (stick) or |t| = mu p opposing the slip (slip).
 """
 
@@ -29,10 +35,11 @@ from .friction_state import GrossSlip, NotConverged, State
 
 PREDICTOR = 10.0         # the fallback predictor's penalty stiffness, times diag(S) [-]
 LINESEARCH = 0           # full (active-set) Newton steps: a line search on |C|^2 stalls at the kinks
-DIRECT_MAXIT = 12        # Newton steps from the previous increment before the predictor is tried
+DIRECT_MAXIT = 30        # Newton steps per direct attempt (guess, previous increment) before the predictor
 DIRECT_RHO = (1.0, 0.1)  # the direct attempts' rho, times diag(S)
 RHO_N = 1.0
 RHO_T = 1.0
+WRONG_WAY_STICK = True   # iterates: a closed row slipping along its own force is taken as sticking
 
 
 def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None):
@@ -49,7 +56,8 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None
     nxi = np.linalg.norm(xi, axis=1)
     q = np.where(sig[fr] > 0, mu * np.maximum(sig[fr], 0.0) if qfix is None else qfix, 0.0)   # slip threshold [N]
     closed = act[fr]
-    stick = closed & (nxi <= q)
+    wrong_way = np.sum(ds * t, axis=1) > 0 if WRONG_WAY_STICK else False   # t pushes along the slip
+    stick = closed & ((nxi <= q) | wrong_way)
     slip = closed & ~stick
     nv = np.divide(xi, nxi[:, None], out=np.zeros_like(xi), where=nxi[:, None] > 0)
     ct = np.where(stick[:, None], rho_t * ds, np.where(slip[:, None], t - q[:, None] * nv, t))
@@ -57,14 +65,20 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None
     return C, lam, act, stick, slip, nv, nxi, q, t
 
 
-def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, predictor=None):
+def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, predictor=None, guess=None):
     """One increment of exact Coulomb friction from the converged state ``prev``.
 
-    The semi-smooth Newton (:func:`_ssn`) from the previous increment; when it does not settle in
+    The semi-smooth Newton (:func:`_ssn`) from ``guess`` (an estimate of x from the path, when given),
+    then from the previous increment; when it does not settle in
     ``DIRECT_MAXIT`` steps (its active sets can cycle), again from a penalty predictor (the energy-
     descent penalty solve ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
     when that fails too (the caller has the augmented-Lagrangian solve as the last resort).
     """
+    if guess is not None:                              # warm start: the path's estimate of x
+        try:
+            return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT, x0=guess)
+        except (GrossSlip, NotConverged, Unbounded):
+            pass
     for rho in DIRECT_RHO:                             # the active sets cycle at some rho and not at others
         try:
             return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT, rho=rho)
