@@ -345,10 +345,12 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
             return solve_lagrange_increment(sysf, f, prev, mu, max_disp, guess=guess, predictor=None if quick else (
                 lambda kp, ktp: solve_increment(sysf, "penalty", f, prev, kp, 1e-12 * kp, ktp, mu, max_disp,
                                                 tol=PREDICTOR_TOL)))
-        except NotConverged:
+        except NotConverged as exc:
             if quick:
                 raise                                  # the caller cuts the increment back first
-            pass                                       # the augmented Lagrangian below, the last resort
+            runaway = getattr(exc, "runaway", False)   # the augmented Lagrangian below, the last resort
+    else:
+        runaway = False
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
     t0 = prev.t.copy()
     zero = np.zeros_like(rho)
@@ -357,7 +359,12 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
     hist_z, hist_g = [], []                            # Anderson acceleration of the multiplier updates
     for outer in range(1, maxit + 1):
         r = np.minimum(r * rho_growth, rho)
-        st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
+        try:
+            st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
+        except NotConverged:
+            if runaway:                                # both ran away, and not all slipping: tipping over
+                raise Unbounded("no bounded equilibrium") from None
+            raise
         its += st.iterations
         p = np.where(st.active, st.p, 0.0)
         change = max(np.abs(p - p0).max(), np.abs(st.t - t0).max() if nf else 0.0,
