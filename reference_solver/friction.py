@@ -361,9 +361,8 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         r = np.minimum(r * rho_growth, rho)
         try:
             st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
-        except NotConverged:
-            if runaway:                                # both ran away, and not all slipping: tipping over
-                raise Unbounded("no bounded equilibrium") from None
+        except NotConverged as exc:
+            exc.runaway = runaway                      # both ran away, not all slipping (the path decides)
             raise
         its += st.iterations
         p = np.where(st.active, st.p, 0.0)

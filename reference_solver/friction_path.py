@@ -151,6 +151,8 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
             except (GrossSlip, NotConverged) as exc:
                 why = exc
                 break
+        if isinstance(why, NotConverged) and getattr(why, "runaway", False):
+            raise no_equilibrium(2, b) from None             # no bounded equilibrium past a: tipping over
         if isinstance(why, NotConverged):
             raise NotConverged(f"step 2, load factor {b:.6g}: the friction iterations do not converge "
                                f"({why}); the last converged load factor is {a:.6g}") from None
