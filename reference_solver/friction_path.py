@@ -6,9 +6,9 @@ increments per leg. Every increment starts from the previous converged state (ta
 slip history), so loading to lambda = 1 and back to 0 leaves a residual tangential state where slip
 occurred. The liftoff onset is bracketed by the increments and bisected (sub-increments from the last
 converged state); the onset of gross slip (the load slides the body) likewise. The Lagrange iterates of
-an increment start from a linear estimate of its displacements (through the last two increments, or
-between the bracket's ends in a bisection); the increment itself (from the last converged state) is
-unchanged, and so is its solution.
+an increment start from a linear estimate of its displacements (through the last two increments; in
+the liftoff bisection, through the last two states on the closed side); the increment itself (from
+the last converged state) is unchanged, and so is its solution.
 """
 
 from __future__ import annotations
@@ -192,12 +192,18 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
                     f"step 2, load factor {lam:.6g}: the load tips the body over (every {liftoff_surface} contact is open)")
             if lift_lf is None and is_open(st):
                 a, b, a_st, b_st = lo_lam, lam, lo_st, st
+                back = (rows[-2][2], rows[-2][4].x) if rows[-2][0] == 2 and rows[-2][2] != lo_lam else None
                 while abs(b - a) > max(liftoff_tol, SLIDE_TOL) * lam_scale:
                     mid = 0.5 * (a + b)
-                    mst = run(a_st, mid, 2, guess=a_st.x + (mid - a) / (b - a) * (b_st.x - a_st.x))
+                    if back is not None:                 # along the closed branch: its last two states
+                        guess = a_st.x + (mid - a) / (a - back[0]) * (a_st.x - back[1])
+                    else:
+                        guess = a_st.x + (mid - a) / (b - a) * (b_st.x - a_st.x)
+                    mst = run(a_st, mid, 2, guess=guess)
                     if is_open(mst):
                         b, b_st = mid, mst
                     else:
+                        back = (a, a_st.x)
                         a, a_st = mid, mst
                 g = p.contact_clearance + b_st.x[:p.n_contacts]
                 cand = np.flatnonzero(watch & ~b_st.active)
