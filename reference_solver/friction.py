@@ -171,11 +171,6 @@ def condense_friction(p: Problem, **kw) -> FrictionSystem:
                      "spring_dirs": np.vstack([p.spring_dirs.reshape(-1, 3), np.array(new_dirs).reshape(-1, 3)]),
                      "spring_k": np.concatenate([p.spring_k, np.full(nn, kreg)]),
                      "tangential": "springs"})
-    # The friction system retains every dof of its base nodes. With the trailing-factor Schur path
-    # (schur='trailing', the CHOLMOD default) such systems crashed the interpreter at exit (heap
-    # corruption seen in a single-hexahedron case; root cause not found), so they use the blocked
-    # right-hand-side Schur complement unless the caller asks otherwise.
-    kw.setdefault("schur", "rhs")
     base = condense(aug, **kw)
     S = base.S.copy()
     added = np.arange(p.n_contacts + p.n_springs, S.shape[0])
@@ -359,7 +354,8 @@ def _unbounded(sysf, active, slip, strict=False):
 def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: State, k: np.ndarray,
                     k_open: np.ndarray, kt: np.ndarray, mu: float, max_disp: float,
                     rho: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 200,
-                    rho_steps: int = 1, rho_growth: float = 10.0, quick: bool = False) -> State:
+                    rho_steps: int = 1, rho_growth: float = 10.0, quick: bool = False,
+                    guess: np.ndarray | None = None) -> State:
     """One load increment from the converged state ``prev`` to the load ``f`` (penalty or Lagrange).
 
     Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange: the
@@ -386,13 +382,15 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
     if LAGRANGE_SSN:
         try:
-            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, predictor=None if quick else (
+            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, guess=guess, predictor=None if quick else (
                 lambda kp, ktp: solve_increment(sysf.with_corner("both"), "penalty", f, prev, kp, 1e-12 * kp, ktp,
                                                 mu, max_disp, tol=PREDICTOR_TOL)))
-        except NotConverged:
+        except NotConverged as exc:
             if quick:
                 raise                                  # the caller cuts the increment back first
-            pass                                       # the augmented Lagrangian below, the last resort
+            runaway = getattr(exc, "runaway", False)   # the augmented Lagrangian below, the last resort
+    else:
+        runaway = False
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
     t0 = prev.t.copy()
     zero = np.zeros_like(rho)
@@ -401,7 +399,11 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
     hist_z, hist_g = [], []                            # Anderson acceleration of the multiplier updates
     for outer in range(1, maxit + 1):
         r = np.minimum(r * rho_growth, rho)
-        st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
+        try:
+            st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
+        except NotConverged as exc:
+            exc.runaway = runaway                      # both ran away, not all slipping (the path decides)
+            raise
         its += st.iterations
         p = np.where(st.active, st.p, 0.0)
         change = max(np.abs(p - p0).max(), np.abs(st.t - t0).max() if nf else 0.0,

@@ -5,7 +5,10 @@ from lambda = 0 through each target of ``targets`` in turn (up or down), ``incre
 increments per leg. Every increment starts from the previous converged state (tangential forces and
 slip history), so loading to lambda = 1 and back to 0 leaves a residual tangential state where slip
 occurred. The liftoff onset is bracketed by the increments and bisected (sub-increments from the last
-converged state); the onset of gross slip (the load slides the body) likewise.
+converged state); the onset of gross slip (the load slides the body) likewise. The Lagrange iterates of
+an increment start from a linear estimate of its displacements (through the last two increments; in
+the liftoff bisection, through the last two states on the closed side); the increment itself (from
+the last converged state) is unchanged, and so is its solution.
 """
 
 from __future__ import annotations
@@ -25,6 +28,13 @@ CUTBACKS = 5             # an increment that does not converge is halved up to t
 SLIDE_TOL = 1.0e-4        # bisection tolerance of the gross-slip and liftoff onsets, relative to the largest
                           # load factor (each step is a sub-increment; liftoff_tol applies when coarser)
 RHO_FACTOR = 100.0        # augmented-Lagrangian rho = RHO_FACTOR * diag(S) on the normal dofs [N/m]
+
+
+def _secant(r0, r1, lam: float) -> np.ndarray | None:
+    """Linear estimate of x at ``lam`` through two converged path rows (step 2 only), else None."""
+    if r0[0] != 2 or r1[0] != 2 or r0[2] == r1[2]:
+        return None
+    return r1[4].x + (lam - r1[2]) / (r1[2] - r0[2]) * (r1[4].x - r0[4].x)
 
 
 def _outputs(sysf: FrictionSystem, method, states, kt):
@@ -96,12 +106,13 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
     watch = np.ones(p.n_contacts, bool) if liftoff_surface is None else p.contact_surface == liftoff_surface
     lam_scale = max(abs(v) for v in targets + [lambda_max])
 
-    def solve(prev: State, lam: float | None, lam_prev: float, depth: int) -> State:
-        """One increment; cut back into halves (up to CUTBACKS times) when it does not converge."""
+    def solve(prev: State, lam: float | None, lam_prev: float, depth: int, guess=None) -> State:
+        """One increment; cut back into halves (up to CUTBACKS times) when it does not converge.
+        ``guess``: an estimate of x at ``lam`` (Lagrange: the semi-smooth Newton's first start)."""
         co = cb if lam is None else cb + lam * cr
         try:
             return solve_increment(sysf, method, sysf.fhat @ co, prev, k, k_open, kt, p.friction, max_disp, rho,
-                                   quick=lam is not None and depth < QUICK_DEPTH)
+                                   quick=lam is not None and depth < QUICK_DEPTH, guess=guess)
         except NotConverged:
             if depth >= CUTBACKS:
                 raise
@@ -110,22 +121,24 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
                 half = solve_increment(sysf, method, sysf.fhat @ (0.5 * cb), prev, k, k_open, kt, p.friction,
                                        max_disp, rho)
                 return solve_increment(sysf, method, sysf.fhat @ cb, half, k, k_open, kt, p.friction, max_disp, rho)
-            return solve(solve(prev, mid, lam_prev, depth + 1), lam, mid, depth + 1)
+            half = None if guess is None else 0.5 * (prev.x + guess)
+            return solve(solve(prev, mid, lam_prev, depth + 1, half), lam, mid, depth + 1, guess)
 
-    def run(prev: State, lam: float | None, step: int, lam_prev: float | None = None) -> State:
+    def run(prev: State, lam: float | None, step: int, lam_prev: float | None = None, guess=None) -> State:
         try:
-            return solve(prev, lam, lam if lam_prev is None else lam_prev, 0 if lam_prev is not None else CUTBACKS)
+            return solve(prev, lam, lam if lam_prev is None else lam_prev, 0 if lam_prev is not None else CUTBACKS,
+                         guess)
         except GrossSlip:
             raise
         except Unbounded:
             raise no_equilibrium(step, lam) from None
 
-    def reach(a_st: State, a: float, lam: float) -> tuple[State, float | None]:
+    def reach(a_st: State, a: float, lam: float, guess=None) -> tuple[State, float | None]:
         """Sub-steps from (a_st, a) to lam: (state at lam, None), or (last state, gross-slip onset)."""
         b, why = lam, None
         for _ in range(8):
             try:
-                return run(a_st, lam, 2, a), None
+                return run(a_st, lam, 2, a, guess), None
             except (GrossSlip, NotConverged) as exc:
                 b, why = lam, exc
             while abs(b - a) > SLIDE_TOL * lam_scale:        # bisect, sub-steps from a
@@ -139,6 +152,8 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
             except (GrossSlip, NotConverged) as exc:
                 why = exc
                 break
+        if isinstance(why, NotConverged) and getattr(why, "runaway", False):
+            raise no_equilibrium(2, b) from None             # no bounded equilibrium past a: tipping over
         if isinstance(why, NotConverged):
             raise NotConverged(f"step 2, load factor {b:.6g}: the friction iterations do not converge "
                                f"({why}); the last converged load factor is {a:.6g}") from None
@@ -164,7 +179,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
         for m in range(1, increments + 1):
             lam = lam_prev + (target - lam_prev) * m / increments if m < increments else target
             lo_lam, lo_st = rows[-1][2], rows[-1][4]
-            st, onset_lf = reach(lo_st, lo_lam, lam)
+            st, onset_lf = reach(lo_st, lo_lam, lam, _secant(rows[-2], rows[-1], lam))
             if onset_lf is not None:
                 slide_lf = onset_lf
                 if on_gross_slip == "raise":
@@ -178,12 +193,18 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
                     f"step 2, load factor {lam:.6g}: the load tips the body over (every {liftoff_surface} contact is open)")
             if lift_lf is None and is_open(st):
                 a, b, a_st, b_st = lo_lam, lam, lo_st, st
+                back = (rows[-2][2], rows[-2][4].x) if rows[-2][0] == 2 and rows[-2][2] != lo_lam else None
                 while abs(b - a) > max(liftoff_tol, SLIDE_TOL) * lam_scale:
                     mid = 0.5 * (a + b)
-                    mst = run(a_st, mid, 2)
+                    if back is not None:                 # along the closed branch: its last two states
+                        guess = a_st.x + (mid - a) / (a - back[0]) * (a_st.x - back[1])
+                    else:
+                        guess = a_st.x + (mid - a) / (b - a) * (b_st.x - a_st.x)
+                    mst = run(a_st, mid, 2, guess=guess)
                     if is_open(mst):
                         b, b_st = mid, mst
                     else:
+                        back = (a, a_st.x)
                         a, a_st = mid, mst
                 g = p.contact_clearance + b_st.x[:p.n_contacts]
                 cand = np.flatnonzero(watch & ~b_st.active)

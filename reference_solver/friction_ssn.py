@@ -13,10 +13,17 @@ alone. One equation per retained dof (force units, N):
   ``rho_t (s - s_ref)`` in stick (|xi| <= q) and ``t - q xi / |xi|`` in slip; of an open row ``C = t``;
 - any other dof: ``C = lam`` (no force).
 
+A closed row whose tangential increment points along its force (``t . (s - s_ref) > 0``: friction
+pushing the motion on) is taken as sticking in the iterates, so its next step returns it to ``s_ref``.
+No solution has such a row (stick: s = s_ref; slip: s - s_ref opposes t), so C = 0 is unchanged; without
+it the Newton iterates lock such rows in a wrong-way slip and drift (most increments past liftoff
+did not settle and were cut back). Where those iterates run away (the onset of gross slip), the plain
+iteration follows and decides as before; ``WRONG_WAY_STICK = False`` keeps only the plain one.
+
 The generalised Jacobian is ``D_lam S + D_x`` with per-node blocks; the dofs whose equation is
 ``rho (x - x_target)`` (closed normals, sticking axes) are solved outright, so each Newton step
-solves a dense system on the open and slipping dofs only. Steps are damped by a backtracking line
-search on ``|C|^2 / 2`` and start from the previous increment (warm start). At the solution
+solves a dense system on the open and slipping dofs only. The iterates start from the path's
+estimate of the increment (warm start), else from the previous increment. At the solution
 g = 0 or p = 0 exactly, and s = s_ref (stick) or |t| = mu p opposing the slip (slip).
 """
 
@@ -29,13 +36,16 @@ from .friction_state import GrossSlip, NotConverged, State
 
 PREDICTOR = 10.0         # the fallback predictor's penalty stiffness, times diag(S) [-]
 LINESEARCH = 0           # full (active-set) Newton steps: a line search on |C|^2 stalls at the kinks
-DIRECT_MAXIT = 12        # Newton steps from the previous increment before the predictor is tried
+DIRECT_MAXIT = 30        # Newton steps per direct attempt (guess, previous increment), wrong-way rows sticking
+PLAIN_MAXIT = 12         # Newton steps of the plain iteration from the previous increment, before the predictor
 DIRECT_RHO = (1.0, 0.1)  # the direct attempts' rho, times diag(S)
 RHO_N = 1.0
 RHO_T = 1.0
+WRONG_WAY_STICK = True   # iterates: a closed row slipping along its own force is taken as sticking
+                         # (False: the plain iteration alone, as before issue 14's speed work)
 
 
-def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None, sysf=None):
+def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None, sysf=None, wrong_way_stick=True):
     """Residual C (nr,), the known-dof mask, and the pieces of the Jacobian at ``x``."""
     lam = S @ x - f
     g = clear + x[:nc]
@@ -51,7 +61,8 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None
     nxi = np.linalg.norm(xi, axis=1)
     q = np.where(sig[fr] > 0, mu * np.maximum(sig[fr], 0.0) if qfix is None else qfix, 0.0)   # slip threshold [N]
     closed = act[fr]
-    stick = closed & (nxi <= q)
+    wrong_way = np.sum(ds * t, axis=1) > 0 if wrong_way_stick else False   # t pushes along the slip
+    stick = closed & ((nxi <= q) | wrong_way)
     slip = closed & ~stick
     nv = np.divide(xi, nxi[:, None], out=np.zeros_like(xi), where=nxi[:, None] > 0)
     ct = np.where(stick[:, None], rho_t * ds, np.where(slip[:, None], t - q[:, None] * nv, t))
@@ -59,17 +70,26 @@ def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None
     return C, lam, act, stick, slip, nv, nxi, q, t, m
 
 
-def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, predictor=None):
+def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, predictor=None, guess=None):
     """One increment of exact Coulomb friction from the converged state ``prev``.
 
-    The semi-smooth Newton (:func:`_ssn`) from the previous increment; when it does not settle in
-    ``DIRECT_MAXIT`` steps (its active sets can cycle), again from a penalty predictor (the energy-
-    descent penalty solve ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
+    The semi-smooth Newton (:func:`_ssn`, wrong-way rows taken as sticking) from ``guess`` (an estimate
+    of x from the path, when given), then from the previous increment (``DIRECT_MAXIT`` steps each).
+    When none settles (an increment at or past the onset of gross slip or tipping: the iterates run
+    away), the plain iteration of the earlier solver: from the previous increment (``PLAIN_MAXIT``
+    steps, its active sets can cycle), then from a penalty predictor (the energy-descent penalty solve
+    ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
     when that fails too (the caller has the augmented-Lagrangian solve as the last resort).
     """
+    starts = ([(guess, 1.0)] if guess is not None else []) + [(None, r) for r in DIRECT_RHO]
+    for x0, rho in starts if WRONG_WAY_STICK else []:
+        try:
+            return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT, x0=x0, rho=rho)
+        except (GrossSlip, NotConverged, Unbounded):
+            pass
     for rho in DIRECT_RHO:                             # the active sets cycle at some rho and not at others
         try:
-            return _ssn(sysf, f, prev, mu, max_disp, tol, DIRECT_MAXIT, rho=rho)
+            return _ssn(sysf, f, prev, mu, max_disp, tol, PLAIN_MAXIT, rho=rho, wrong_way_stick=False)
         except (GrossSlip, NotConverged, Unbounded):
             pass
     d = np.diag(sysf.S)
@@ -79,14 +99,16 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
         raise NotConverged("Lagrange friction: the semi-smooth Newton did not settle (no predictor given)")
     pred = predictor(k, kt)
     try:
-        st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x)
+        st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x, wrong_way_stick=False)
     except (GrossSlip, Unbounded) as exc:
-        raise NotConverged(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})") from None
+        err = NotConverged(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})")
+        err.runaway = isinstance(exc, Unbounded)          # not gross slip: no bounded equilibrium in sight
+        raise err from None
     st.iterations += pred.iterations
     return st
 
 
-def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, rho=1.0):
+def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, rho=1.0, wrong_way_stick=True):
     """One increment of exact Coulomb friction from the converged state ``prev`` (a friction.State).
 
     Raises :class:`reference_solver.friction.GrossSlip` when the iterates run away with every closed
@@ -103,7 +125,7 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     nf = fr.size
     fi = np.repeat(np.arange(nf), 2).reshape(nf, 2)           # friction row of each tangential axis
     scale = max(np.abs(f).max(), 1e-300)
-    args = (S, f, nc, clear, rho_n, rho_t, fr, td, None, mu, s_ref, qfix, sysf)   # axes per state
+    args = (S, f, nc, clear, rho_n, rho_t, fr, td, None, mu, s_ref, qfix, sysf, wrong_way_stick)   # axes per state
     x = np.array(prev.x if x0 is None else x0, float)
     ev = _equations(x, *args)
     allslip = 0
@@ -155,7 +177,7 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
                 except np.linalg.LinAlgError:
                     dx[U] = np.nan
         fa = act[fr]
-        allslip_now = bool(fa.any() and np.all(slip[fa]))
+        allslip_now = bool(fa.any() and np.all(nxi[fa] > q[fa]))   # beyond the cone (wrong-way rows too)
         if not np.all(np.isfinite(dx)) or np.abs(x + dx).max() > max_disp:
             if allslip_now or allslip:
                 raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
@@ -174,8 +196,8 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
                     break
             _, step, new = best
         x, ev = x + step * dx, new
-    C, lam, act, stick, slip, *_ = ev
+    C, lam, act, stick, slip, nv, nxi, q, t, _ = ev
     fa = act[fr]
-    if allslip or (fa.any() and np.all(slip[fa])):
+    if allslip or (fa.any() and np.all(nxi[fa] > q[fa])):
         raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
     raise NotConverged(f"Lagrange friction: the semi-smooth Newton did not settle in {maxit} steps")

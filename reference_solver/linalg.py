@@ -15,7 +15,9 @@ The Schur complement S = K_rr - K_ri K_ii^-1 K_ir onto the retained dofs r is bu
 from __future__ import annotations
 
 import ctypes
+import gc
 import os
+import sys
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -41,6 +43,31 @@ _SINGULAR = ("mechanism: the stiffness matrix is singular with the contact and s
              "(a part of the mesh is not connected or not restrained)")
 
 
+def keep_factor_out_of_gc(f):
+    """Untrack a scikit-sparse 0.4 ``Factor`` from the cyclic garbage collector; returns ``f``.
+
+    sksparse 0.4's ``Factor.__dealloc__`` frees the factor with ``&self._common._common``, and the
+    class does not opt out of ``tp_clear``. When the collector breaks a reference cycle that holds a
+    Factor (a closure cell of ``Schur.recover`` in a dead system, the last collection at exit) it may
+    clear the Factor first, which sets ``_common`` to None; the dealloc then hands CHOLMOD a pointer
+    24 bytes into ``Py_None`` (libpython's static data): CHOLMOD finds no valid ``itype`` there and
+    writes ``status = CHOLMOD_INVALID`` (-4) over the next static object, ``PyLongRangeIter_Type``'s
+    static-type index in Python 3.12, and the interpreter crashes at exit (the factor also leaks).
+    A Factor refers only to its Common, which refers to nothing, so no cycle passes through it:
+    untracked it is freed by reference counting alone, with ``_common`` intact.
+    """
+    if (_cholmod is not None and type(f) is getattr(_cholmod, "Factor", None) and gc.is_tracked(f)
+            and sys.implementation.name == "cpython"):
+        _gc_untrack(f)
+    return f
+
+
+def _gc_untrack(obj) -> None:
+    untrack = ctypes.pythonapi.PyObject_GC_UnTrack
+    untrack.argtypes, untrack.restype = [ctypes.py_object], None
+    untrack(obj)
+
+
 def cholmod_factorize(K: sp.spmatrix) -> Solve:
     """CHOLMOD supernodal Cholesky (fill-reducing ordering chosen by CHOLMOD)."""
     if _cholmod is None:
@@ -51,7 +78,7 @@ def cholmod_factorize(K: sp.spmatrix) -> Solve:
             f = _cholmod.cholesky(sp.csc_matrix(K))
     except _cholmod.CholmodNotPositiveDefiniteError:
         raise ReferenceSolverError(_SINGULAR) from None
-    return f
+    return keep_factor_out_of_gc(f)
 
 
 def splu_factorize(K: sp.spmatrix) -> Solve:
@@ -228,6 +255,7 @@ def trailing_block(f, n: int, nr: int) -> np.ndarray | None:
 def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray, d0: np.ndarray,
                                timings: dict, t2: float) -> Schur:
     """S, condensed loads and recovery from a factor of P (K + D0) P^T with r = perm[n-nr:] last."""
+    keep_factor_out_of_gc(f)                                         # captured by recover below
     n, nr = perm.size, r.size
     P = f.P()
     tail = P[n - nr:]
