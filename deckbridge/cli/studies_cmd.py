@@ -11,9 +11,6 @@ import click
 from .. import limits
 from ..errors import DeckbridgeError
 from ..outdir import lock, remove_stale, staged
-from ..studies.cases import mesh_variants, parse_grid_options, parse_k_factors, parse_mesh_options
-from ..studies.liftoff import critical_load, format_table
-from ..studies.metrics import rnd
 from ._common import main, model_options
 
 DEFAULT_K = "0.01,0.1,1,10,100,1000"
@@ -49,6 +46,7 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
               scheduler, workers, strategy):
     """Penalty sensitivity of MODEL: every k-factor (and mesh, and grid point) against the Lagrange
     reference, with the paper's two claims judged per variant and quantity."""
+    from ..studies.cases import mesh_variants, parse_grid_options, parse_k_factors, parse_mesh_options
     from ..studies.cluster import open_client
     from ..studies.sweep import check_options, run_sweep
 
@@ -158,6 +156,9 @@ def _f(v) -> str:
               help="Also write DIR/summary.json (per method lambda_c and theta_deg).")
 def liftoff_cmd(model, method, tol, k_factor, outdir):
     """Critical load factor lambda_c (on T and M in step 2) at which liftoff begins, and where."""
+    from ..studies.liftoff import critical_load, format_table
+    from ..studies.metrics import rnd
+
     methods = ("penalty", "lagrange") if method == "both" else (method,)
     if k_factor is not None and "penalty" not in methods:
         raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method penalty or both")
