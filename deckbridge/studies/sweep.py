@@ -21,13 +21,16 @@ penalty springs scale with the k-factor (:mod:`deckbridge.tangent_springs`); the
 those of the model's alpha. Base-wall sigma_zz needs the sparse factor: in process and with strategy
 'mesh' it is recovered, with 'split' (condensation moved to other workers) only contact sigma_N is judged.
 
-Execution: ``client=None`` runs in this process; a ``dask.distributed.Client`` runs the cases on
-its cluster. Strategy ``'split'`` (default) submits one condensation task per mesh and one task per
-case depending on it, so the cases of a mesh spread over the workers; ``'mesh'`` submits one task per
-mesh that condenses and solves its cases in turn. Only the client writes to disk. Measured on 2 cores
-(default JAR, 6 k-factors + Lagrange): both give identical files; one mesh, the same time within the
-noise (4-5 s per command); meshes n_theta = 36, 72, 144: 8.9 s (split) and 8.6 s (mesh), the
-condensations dominating. A condensed default mesh (288 contact rows) is about 2 MB to move to
+Execution: ``client=None`` runs in this process (with field recovery); a
+:class:`~deckbridge.studies.local.LocalExecutor` condenses on a forked process and solves the cases on
+worker processes forked after it (``deckbridge sweep`` uses it for one condensation: no cluster to start,
+nothing sent, see :mod:`.local`); a ``dask.distributed.Client`` runs the cases on its cluster. On Dask,
+strategy ``'split'`` (default) submits one condensation task per mesh and one task per case depending on
+it, so the cases of a mesh spread over the workers; ``'mesh'`` submits one task per mesh that condenses
+and solves its cases in turn (the local executor keeps the sparse factor with ``'mesh'``: wall sigma_zz
+recovered). Only the client writes to disk. Measured on 2 cores with Dask (default JAR, 6 k-factors +
+Lagrange): both give identical files; one mesh, the same time within the noise (4-5 s per command);
+meshes n_theta = 36, 72, 144: 8.9 s (split) and 8.6 s (mesh), the condensations dominating. A condensed default mesh (288 contact rows) is about 2 MB to move to
 another worker, 16 MB at n_theta = 240.
 """
 
