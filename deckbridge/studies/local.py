@@ -26,6 +26,7 @@ import multiprocessing
 import os
 import signal
 import sys
+import threading
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Callable, Iterable, Iterator, NamedTuple
@@ -83,6 +84,27 @@ def prepared(df, label: str) -> Prepared:
     return Prepared(text, table, series)
 
 
+def _in_fresh_thread(fn: Callable[[], object]) -> None:
+    """Run ``fn`` (which forks) in a new thread and wait for it.
+
+    GNU OpenMP (CHOLMOD's threads) is not fork-safe: a child forked from a thread that has run a parallel
+    region hangs in its next one (the team's threads are gone). A new thread has no OpenMP team, so its
+    children start a fresh one: this process may have factorised before (a library user, the tests)."""
+    box: list[BaseException] = []
+
+    def run():
+        try:
+            fn()
+        except BaseException as exc:  # noqa: BLE001  (re-raised in the caller)
+            box.append(exc)
+
+    t = threading.Thread(target=run, name="deckbridge-fork")
+    t.start()
+    t.join()
+    if box:
+        raise box[0]
+
+
 class LocalExecutor:
     """``workers`` processes of this machine (default: its cores), forked when there is work for them.
 
@@ -113,7 +135,10 @@ class LocalExecutor:
             warnings.filterwarnings("ignore", message=r".*use of fork\(\) may lead to deadlocks", category=DeprecationWarning)
             gc.freeze()             # the workers' collections leave the client's objects (and their pages) alone
             try:
-                pool.submit(int).result()          # the processes start now (fork: all of them at once)
+                _in_fresh_thread(lambda: pool.submit(int).result())   # the processes start now (fork: all at once)
+            except BaseException:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
             finally:
                 gc.unfreeze()
         return pool
