@@ -92,3 +92,25 @@ def test_local_executor_with_a_scheduler_is_one_line_and_writes_nothing(tmp_path
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("deckbridge: error:"), res.stderr
     assert "--executor local and --scheduler" in lines[0] and not out.exists()
+
+
+def test_workers_forked_after_a_factorisation_in_this_process_do_not_hang(tmp_path):
+    """GNU OpenMP (CHOLMOD) is not fork-safe: a child forked from a thread that ran a parallel region
+    hung in its own factorisation. In a fresh interpreter (its own OpenMP state), under a time limit."""
+    import subprocess
+    import sys
+
+    code = ("from deckbridge.model import load\n"
+            "from deckbridge.studies.tasks import condense_variant\n"
+            "from deckbridge.studies.local import LocalExecutor\n"
+            f"md = load(None, {TINY!r}).to_dict()\n"
+            "ref = condense_variant(md, light=True)\n"          # CHOLMOD in this process first
+            "with LocalExecutor(2) as ex:\n"
+            "    cond = ex.condense(md, True, meanwhile=lambda: None)\n"
+            "    out = dict(ex.solve(cond, [(md, 'lagrange', None, 'scaled'), (md, 'penalty', 1.0, 'scaled')],\n"
+            "                        ['lagrange', 'penalty k=1']))\n"
+            "assert (cond.system.S == ref.system.S).all()\n"
+            "assert all(not isinstance(r, Exception) and len(r[0]) > 0 for r in out.values())\n"
+            "print('ok')\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert res.returncode == 0 and res.stdout.strip() == "ok", res.stderr[-2000:]
