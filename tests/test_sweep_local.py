@@ -114,3 +114,32 @@ def test_workers_forked_after_a_factorisation_in_this_process_do_not_hang(tmp_pa
             "print('ok')\n")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert res.returncode == 0 and res.stdout.strip() == "ok", res.stderr[-2000:]
+
+
+def test_a_worker_that_dies_ends_the_sweep_in_one_line_and_the_rest_resumes(tmp_path, monkeypatch):
+    """A worker killed (out of memory, say) mid-sweep: exit 1 with one line, the cases stored before it
+    stay, and the same command resumes (the workers inherit this process's modules: the patch reaches them)."""
+    import os
+
+    import deckbridge.studies.tasks as tasks
+
+    real = tasks.solve_or_error
+
+    def dies_on_k1(cond, model_dict, method, k_factor, open_stiffness="scaled"):
+        if k_factor == 1.0:
+            os._exit(9)
+        return real(cond, model_dict, method, k_factor, open_stiffness)
+
+    monkeypatch.setattr(tasks, "solve_or_error", dies_on_k1)
+    args = ["sweep", *[x for s in TINY for x in ("--set", s)], "--k-factors", "10,0.1,1", "--workers", "2",
+            "-o", str(tmp_path / "s")]
+    res = CliRunner().invoke(main, args)
+    err = res.stderr.split("\r")[-1].strip()            # after the progress bar's redraws
+    assert res.exit_code == 1 and res.stderr.count("deckbridge: error:") == 1, res.stderr
+    assert err.startswith("deckbridge: error: a local worker process ended abruptly") and "\n" not in err
+    assert not multiprocessing.active_children() and not (tmp_path / "s" / "summary.json").exists()
+    monkeypatch.setattr(tasks, "solve_or_error", real)
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 0, res.stderr
+    run = json.loads((tmp_path / "s" / "run.json").read_text())
+    assert len(run["computed"]) + len(run["reused"]) == 4 and len(run["computed"]) >= 1

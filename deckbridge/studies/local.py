@@ -29,8 +29,10 @@ import sys
 import threading
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from typing import Callable, Iterable, Iterator, NamedTuple
 
+from ..errors import RunError
 from ..limits import check_workers
 
 _INHERITED = {}                      # in a worker: the condensed system it solves cases on
@@ -197,7 +199,12 @@ class LocalExecutor:
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
             for f in done:
-                yield f.result()
+                try:
+                    out = f.result()
+                except BrokenProcessPool:
+                    raise RunError("a local worker process ended abruptly (out of memory? killed?); the finished "
+                                   "cases are stored: run the same command again to resume") from None
+                yield out
 
     def mapper(self) -> Callable[[Callable, Iterable], list]:
         """``mapper(fn, jobs)`` for the report's figures: drawn on the workers of the cases (forked after
