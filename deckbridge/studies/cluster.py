@@ -1,4 +1,5 @@
-"""Dask for the studies: a LocalCluster of worker processes on this machine, or an existing cluster.
+"""Dask for the studies: a LocalCluster of worker processes on this machine, or an existing cluster;
+:func:`open_executor` picks it or the forked local workers of :mod:`.local` (``sweep --executor``).
 
 ``open_client(scheduler=None, workers=None)`` is a context manager yielding a
 ``dask.distributed.Client``: with ``scheduler`` (an address such as ``tcp://host:8786``) it connects
