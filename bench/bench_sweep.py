@@ -17,6 +17,12 @@ would flatter the sweep.
 
     python bench/bench_sweep.py                       # default JAR model, 0.01 ... 1000
     python bench/bench_sweep.py --repeat 3 --set mesh.n_theta=120 --workers 2
+    python bench/bench_sweep.py --repeat 5 --before /tmp/old   # also an older checkout, alternated
+
+``--before DIR``: a checkout of another commit (e.g. ``git archive BASE | tar -x -C DIR``) measured in
+the same bench run, alternately with this one (PYTHONPATH=DIR in front of this tree for both of its
+sides; its ``deckbridge`` and ``reference_solver`` packages are then DIR's), so that before and after
+see the same load of a shared machine.
 """
 
 from __future__ import annotations
@@ -59,6 +65,14 @@ def _timed(cmd: list[str], env: dict | None = None) -> float:
     return dt
 
 
+def _with_path(env: dict | None, before: str | None) -> dict | None:
+    if before is None:
+        return env
+    env = dict(os.environ if env is None else env)
+    env["PYTHONPATH"] = before + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    return env
+
+
 def separate_solves(work: Path, k_factors: list[str], sets: list[str], env: dict | None) -> float:
     t = 0.0
     for k in k_factors:
@@ -67,10 +81,45 @@ def separate_solves(work: Path, k_factors: list[str], sets: list[str], env: dict
     return t
 
 
-def sweep(work: Path, k_factors: list[str], sets: list[str], extra: list[str]) -> tuple[float, dict]:
+def sweep(work: Path, k_factors: list[str], sets: list[str], extra: list[str], env: dict | None = None
+          ) -> tuple[float, dict]:
     out = work / "sweep"
-    t = _timed(_cli() + ["sweep", "--k-factors", ",".join(k_factors), *sets, *extra, "-o", str(out)])
+    t = _timed(_cli() + ["sweep", "--k-factors", ",".join(k_factors), *sets, *extra, "-o", str(out)], env)
     return t, json.loads((out / "run.json").read_text())
+
+
+def measure(label: str, ks, sets, extra, env, env_sweep, repeat_i: int, rec: dict) -> None:
+    """One repeat of both sides for one code tree; appends to ``rec`` (lists of times, CPU, runs)."""
+    with tempfile.TemporaryDirectory(prefix="bench_sweep_") as tmp:
+        work = Path(tmp)
+        c0 = CPU[0]
+        rec["sep"].append(separate_solves(work, ks, sets, env))
+        c1 = CPU[0]
+        shutil.rmtree(work, ignore_errors=True)
+        work.mkdir(exist_ok=True)
+        t, run = sweep(work, ks, sets, extra, env_sweep)
+        rec["sw"].append(t)
+        rec["runs"].append(run)
+        rec["cpu"].append((c1 - c0, CPU[0] - c1))
+    a, b = rec["sep"][-1], rec["sw"][-1]
+    ca, cb = rec["cpu"][-1]
+    print(f"{label}run {repeat_i + 1}: {len(ks) + 1} separate solves {a:.2f} s (CPU {ca:.2f} s), sweep {b:.2f} s "
+          f"(CPU {cb:.2f} s), ratio {a / b:.2f}x (CPU {ca / cb:.2f}x); load average {os.getloadavg()[0]:.2f}",
+          flush=True)
+
+
+def report(label: str, rec: dict, repeat: int) -> None:
+    a, b = statistics.median(rec["sep"]), statistics.median(rec["sw"])
+    run = rec["runs"][-1]
+    cond = {v["condensed_on"]: v["condense_s"] for v in run["case_timings_s"].values()}
+    solves = [v["wall_time_s"] for v in run["case_timings_s"].values()]
+    print(f"{label}sweep ({run['executor']}): phases {', '.join(f'{k} {v:.2f} s' for k, v in run['timings_s'].items())}; "
+          f"condensation {sum(cond.values()):.2f} s ({len(cond)}x), case solves {sum(solves):.2f} s in all")
+    ca, cb = statistics.median(c[0] for c in rec["cpu"]), statistics.median(c[1] for c in rec["cpu"])
+    ratios = sorted(x / y for x, y in zip(rec["sep"], rec["sw"]))
+    print(f"{label}median of {repeat}: separate solves {a:.2f} s, sweep {b:.2f} s -> sweep is {a / b:.2f}x faster "
+          f"(target >= 5x; per-run ratios {ratios[0]:.2f}-{ratios[-1]:.2f}x); CPU {ca:.2f} s against {cb:.2f} s "
+          f"({ca / cb:.2f}x)")
 
 
 def main() -> None:
@@ -80,6 +129,10 @@ def main() -> None:
     ap.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--strategy", choices=["split", "mesh"], default=None)
+    ap.add_argument("--executor", choices=["auto", "local", "dask"], default=None,
+                    help="the sweep's --executor (this tree only; not passed to --before)")
+    ap.add_argument("--before", default=None, metavar="DIR",
+                    help="also measure the checkout in DIR (another commit), alternated with this tree")
     ap.add_argument("--blas-default", action="store_true",
                     help="run the separate solves with the caller's BLAS threads (default: one thread)")
     args = ap.parse_args()
@@ -90,32 +143,18 @@ def main() -> None:
     extra = (["--workers", str(args.workers)] if args.workers else []) + (
         ["--strategy", args.strategy] if args.strategy else [])
     print(f"cores: {os.cpu_count()}; k-factors {','.join(ks)} + lagrange; model overrides {args.sets or 'none'}; "
-          f"separate solves with {'the default BLAS threads' if env is None else 'one BLAS thread'}")
-    seps, sws, runs, cpus = [], [], [], []
+          f"separate solves with {'the default BLAS threads' if env is None else 'one BLAS thread'}"
+          + (f"; before = {args.before}, alternated" if args.before else ""))
+    now = {"sep": [], "sw": [], "runs": [], "cpu": []}
+    old = {"sep": [], "sw": [], "runs": [], "cpu": []}
+    mine = extra + (["--executor", args.executor] if args.executor else [])
     for i in range(args.repeat):
-        with tempfile.TemporaryDirectory(prefix="bench_sweep_") as tmp:
-            work = Path(tmp)
-            c0 = CPU[0]
-            seps.append(separate_solves(work, ks, sets, env))
-            c1 = CPU[0]
-            shutil.rmtree(work, ignore_errors=True)
-            work.mkdir(exist_ok=True)
-            t, run = sweep(work, ks, sets, extra)
-            sws.append(t)
-            runs.append(run)
-            cpus.append((c1 - c0, CPU[0] - c1))
-        print(f"run {i + 1}: {len(ks) + 1} separate solves {seps[-1]:.2f} s (CPU {cpus[-1][0]:.2f} s), sweep "
-              f"{sws[-1]:.2f} s (CPU {cpus[-1][1]:.2f} s), ratio {seps[-1] / sws[-1]:.2f}x (CPU "
-              f"{cpus[-1][0] / cpus[-1][1]:.2f}x); load average {os.getloadavg()[0]:.2f}", flush=True)
-    a, b = statistics.median(seps), statistics.median(sws)
-    run = runs[-1]
-    cond = {v["condensed_on"]: v["condense_s"] for v in run["case_timings_s"].values()}
-    solves = [v["wall_time_s"] for v in run["case_timings_s"].values()]
-    print(f"sweep ({run['executor']}): phases {', '.join(f'{k} {v:.2f} s' for k, v in run['timings_s'].items())}; "
-          f"condensation {sum(cond.values()):.2f} s ({len(cond)}x), case solves {sum(solves):.2f} s in all")
-    ca, cb = statistics.median(c[0] for c in cpus), statistics.median(c[1] for c in cpus)
-    print(f"median of {args.repeat}: separate solves {a:.2f} s, sweep {b:.2f} s -> sweep is {a / b:.2f}x faster "
-          f"(target >= 5x); CPU {ca:.2f} s against {cb:.2f} s ({ca / cb:.2f}x)")
+        if args.before:
+            measure("before: ", ks, sets, extra, _with_path(env, args.before), _with_path(None, args.before), i, old)
+        measure("after:  " if args.before else "", ks, sets, mine, env, None, i, now)
+    if args.before:
+        report("before: ", old, args.repeat)
+    report("after:  " if args.before else "", now, args.repeat)
 
 
 if __name__ == "__main__":

@@ -6,14 +6,9 @@ from pathlib import Path
 
 import click
 
-from ..compare import compare_tables
 from ..errors import DeckbridgeError
 from ..model import load
 from ..readers import detect, formats, read
-from ..readers.reference import read_source
-from ..compare.onsets import describe
-from ..report import write_report
-from ..wall_stress import with_ccx_wall
 from ._common import main
 
 
@@ -34,6 +29,14 @@ from ._common import main
               help="Contact surface whose sigma_N is compared.")
 def compare_cmd(sources, outdir, model_path, overrides, load_factors, formats, surface):
     """Compare contact stresses of SOURCE... (result folders or files) and write a report to DIR."""
+    # imported here, not with the CLI: the report brings matplotlib and jinja2, the reference reader the
+    # solver (every other command starts without them)
+    from ..compare import compare_tables
+    from ..compare.onsets import describe
+    from ..readers.reference import read_source
+    from ..report import write_report
+    from ..wall_stress import with_ccx_wall
+
     model = load(model_path, list(overrides)) if (model_path or overrides) else None
     if formats and len(formats) not in (1, len(sources)):
         raise DeckbridgeError(f"--format given {len(formats)} times for {len(sources)} sources: give one, or one per source")

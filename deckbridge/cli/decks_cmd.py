@@ -3,7 +3,6 @@
 import click
 
 from ..dialects import names
-from ..render import render_all
 from ._common import main, model_options
 
 
@@ -15,5 +14,7 @@ from ._common import main, model_options
               help=f"Only these dialects ({', '.join(names())}); default all.")
 def decks_cmd(model, outdir, dialects):
     """Write the solver decks of MODEL (every dialect of deckbridge.dialects, or those of --dialect)."""
+    from ..render import render_all          # jinja2: imported by the commands that render only
+
     for path in render_all(model, outdir, list(dialects) or None):
         click.echo(f"wrote {path}")

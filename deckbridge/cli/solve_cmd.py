@@ -4,7 +4,6 @@ import click
 from tqdm import tqdm
 
 from ..errors import DeckbridgeError
-from ..solve import run_solve
 from ._common import main, model_options
 
 
@@ -23,6 +22,8 @@ from ._common import main, model_options
                    "(ParaView series, one VTU per increment); written whole or not at all.")
 def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
     """Solve MODEL with the reference solver and write the contact table, a summary and a VTU file."""
+    from ..solve import run_solve            # the solver: imported by the commands that solve
+
     if alpha is not None and k_factor is not None:
         raise DeckbridgeError(f"--alpha = {alpha!r} and --k-factor = {k_factor!r}: give one or the other")
     if method == "lagrange" and (alpha is not None or k_factor is not None):

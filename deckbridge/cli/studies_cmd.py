@@ -1,4 +1,4 @@
-"""``deckbridge sweep`` (penalty sensitivity against Lagrange, on Dask) and ``deckbridge liftoff``."""
+"""``deckbridge sweep`` (penalty sensitivity against Lagrange, on forked local workers or Dask) and ``deckbridge liftoff``."""
 
 from __future__ import annotations
 
@@ -11,9 +11,6 @@ import click
 from .. import limits
 from ..errors import DeckbridgeError
 from ..outdir import lock, remove_stale, staged
-from ..studies.cases import mesh_variants, parse_grid_options, parse_k_factors, parse_mesh_options
-from ..studies.liftoff import critical_load, format_table
-from ..studies.metrics import rnd
 from ._common import main, model_options
 
 DEFAULT_K = "0.01,0.1,1,10,100,1000"
@@ -42,14 +39,18 @@ DEFAULT_K = "0.01,0.1,1,10,100,1000"
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Run on an existing Dask cluster (e.g. tcp://host:8786) instead of a local one.")
 @click.option("--workers", type=int, default=None,
-              help="Worker processes of the local Dask cluster [default: the machine's cores].")
+              help="Worker processes of the local executor or Dask cluster [default: the machine's cores].")
 @click.option("--strategy", type=click.Choice(["split", "mesh"]), default="split", show_default=True,
               help="split: one condensation task per mesh, one task per case; mesh: one task per mesh.")
+@click.option("--executor", type=click.Choice(["auto", "local", "dask"]), default="auto", show_default=True,
+              help="local: condense here, cases on worker processes forked from this one (no cluster); dask: a "
+                   "Dask cluster (local, or --scheduler); auto: local for one condensation (one mesh), else dask.")
 def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, load_factors, open_stiffness,
-              scheduler, workers, strategy):
+              scheduler, workers, strategy, executor):
     """Penalty sensitivity of MODEL: every k-factor (and mesh, and grid point) against the Lagrange
     reference, with the paper's two claims judged per variant and quantity."""
-    from ..studies.cluster import open_client
+    from ..studies.cases import mesh_variants, parse_grid_options, parse_k_factors, parse_mesh_options
+    from ..studies.cluster import executor_kind, open_executor
     from ..studies.sweep import check_options, run_sweep
 
     _check_sizes(k_factors, mesh_opts, load_factors, workers, grid_opts)   # counted before anything is expanded
@@ -58,13 +59,15 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
     grid = parse_grid_options(grid_opts)
     check_options(ks, tol, open_stiffness, strategy, model, list(load_factors) + ([claim_lf] if claim_lf is not None else []))
     variants = mesh_variants(model, meshes, grid)   # a bad mesh or grid value fails here, before any work
+    condensations = len({v.condense_key for v in variants})
+    executor_kind(executor, scheduler, condensations)
     allow_large = click.get_current_context().meta.get("deckbridge.allow_large", False)
     n_workers = workers or (1 if scheduler else os.cpu_count() or 1)
     for v in variants:
         limits.check_memory(v.model, allow_large, copies=min(n_workers, len(ks) + 1), what=" (--mesh)")
     with lock(outdir, "another sweep"):
         remove_stale(outdir)                     # temporaries of a killed run
-        with open_client(scheduler, workers) as client:
+        with open_executor(executor, scheduler, workers, condensations) as client:
             out = run_sweep(model, ks, outdir, meshes=meshes, tol=tol, load_factors=list(load_factors) or None,
                             open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True,
                             grid=grid, claim_load_factor=claim_lf)
@@ -158,6 +161,9 @@ def _f(v) -> str:
               help="Also write DIR/summary.json (per method lambda_c and theta_deg).")
 def liftoff_cmd(model, method, tol, k_factor, outdir):
     """Critical load factor lambda_c (on T and M in step 2) at which liftoff begins, and where."""
+    from ..studies.liftoff import critical_load, format_table
+    from ..studies.metrics import rnd
+
     methods = ("penalty", "lagrange") if method == "both" else (method,)
     if k_factor is not None and "penalty" not in methods:
         raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method penalty or both")

@@ -1,4 +1,5 @@
-"""Dask for the studies: a LocalCluster of worker processes on this machine, or an existing cluster.
+"""Dask for the studies: a LocalCluster of worker processes on this machine, or an existing cluster;
+:func:`open_executor` picks it or the forked local workers of :mod:`.local` (``sweep --executor``).
 
 ``open_client(scheduler=None, workers=None)`` is a context manager yielding a
 ``dask.distributed.Client``: with ``scheduler`` (an address such as ``tcp://host:8786``) it connects
@@ -135,3 +136,34 @@ def open_client(scheduler: str | None = None, workers: int | None = None, proces
     finally:
         client.close()
         cluster.close()
+
+
+EXECUTORS = ("auto", "local", "dask")
+
+
+def executor_kind(executor: str, scheduler: str | None, condensations: int) -> str:
+    """'local' or 'dask' for ``--executor`` (auto: Dask for ``--scheduler`` or several condensations, whose
+    Dask tasks then run in parallel; else the forked local workers of :mod:`.local`, which skip the
+    cluster's start and send no condensed system)."""
+    if executor not in EXECUTORS:
+        raise DeckbridgeError(f"--executor = {executor!r}: must be one of {', '.join(EXECUTORS)}")
+    if scheduler is not None and executor == "local":
+        raise DeckbridgeError(f"--executor local and --scheduler = {scheduler!r}: give one or the other")
+    if executor == "auto":
+        return "dask" if scheduler is not None or condensations > 1 else "local"
+    return executor
+
+
+@contextlib.contextmanager
+def open_executor(executor: str = "auto", scheduler: str | None = None, workers: int | None = None,
+                  condensations: int = 1) -> Iterator["object"]:
+    """A :class:`~deckbridge.studies.local.LocalExecutor` or a Dask client (:func:`open_client`), as
+    :func:`executor_kind` chooses."""
+    if executor_kind(executor, scheduler, condensations) == "local":
+        from .local import LocalExecutor
+        with LocalExecutor(workers) as local:
+            yield local
+        return
+    with open_client(scheduler, workers) as client:
+        yield client
+

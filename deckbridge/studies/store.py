@@ -30,6 +30,16 @@ from ..results import conform
 from .cases import Case
 
 
+def csv_text(frame: pd.DataFrame) -> str:
+    """A case table as the store writes it (schema columns, shortest round-trip floats)."""
+    return conform(frame).to_csv(index=False, lineterminator="\n")
+
+
+def table_of(source) -> pd.DataFrame:
+    """A stored case table read back (``source``: a path or a text stream), exactly as computed."""
+    return conform(pd.read_csv(source, float_precision="round_trip"))
+
+
 def _sha256(path: Path) -> str:
     h = hashlib.sha256()
     with open(path, "rb") as fh:
@@ -77,11 +87,14 @@ class CaseStore:
     def wall_path(self, case: Case) -> Path:
         return self.dir / f"{case.case_id}.wall.csv"
 
-    def _write_csv(self, path: Path, frame: pd.DataFrame) -> None:
+    def _write_csv(self, path: Path, frame: pd.DataFrame | str) -> None:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=self.dir)
         try:
-            with os.fdopen(fd, "w", newline="") as fh:
-                frame.to_csv(fh, index=False)
+            with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
+                if isinstance(frame, str):
+                    fh.write(frame)
+                else:
+                    frame.to_csv(fh, index=False)
             os.replace(tmp, path)
         except BaseException:
             with contextlib.suppress(OSError):
@@ -89,11 +102,11 @@ class CaseStore:
             raise
 
     def put(self, case: Case, table: pd.DataFrame, summary: dict, run_id: str, extra: dict | None = None,
-            wall: pd.DataFrame | None = None) -> Path:
+            wall: pd.DataFrame | None = None, text: str | None = None) -> Path:
         """Store one finished case: table (and base-wall table) first (temp file + rename), then its
-        JSON record."""
+        JSON record. ``text``: the table already as :func:`csv_text` (made on a worker), written as is."""
         tp = self.table_path(case)
-        self._write_csv(tp, conform(table))
+        self._write_csv(tp, csv_text(table) if text is None else text)
         wp = self.wall_path(case)
         if wall is not None:
             self._write_csv(wp, wall)

@@ -21,13 +21,16 @@ penalty springs scale with the k-factor (:mod:`deckbridge.tangent_springs`); the
 those of the model's alpha. Base-wall sigma_zz needs the sparse factor: in process and with strategy
 'mesh' it is recovered, with 'split' (condensation moved to other workers) only contact sigma_N is judged.
 
-Execution: ``client=None`` runs in this process; a ``dask.distributed.Client`` runs the cases on
-its cluster. Strategy ``'split'`` (default) submits one condensation task per mesh and one task per
-case depending on it, so the cases of a mesh spread over the workers; ``'mesh'`` submits one task per
-mesh that condenses and solves its cases in turn. Only the client writes to disk. Measured on 2 cores
-(default JAR, 6 k-factors + Lagrange): both give identical files; one mesh, the same time within the
-noise (4-5 s per command); meshes n_theta = 36, 72, 144: 8.9 s (split) and 8.6 s (mesh), the
-condensations dominating. A condensed default mesh (288 contact rows) is about 2 MB to move to
+Execution: ``client=None`` runs in this process (with field recovery); a
+:class:`~deckbridge.studies.local.LocalExecutor` condenses on a forked process and solves the cases on
+worker processes forked after it (``deckbridge sweep`` uses it for one condensation: no cluster to start,
+nothing sent, see :mod:`.local`); a ``dask.distributed.Client`` runs the cases on its cluster. On Dask,
+strategy ``'split'`` (default) submits one condensation task per mesh and one task per case depending on
+it, so the cases of a mesh spread over the workers; ``'mesh'`` submits one task per mesh that condenses
+and solves its cases in turn (the local executor keeps the sparse factor with ``'mesh'``: wall sigma_zz
+recovered). Only the client writes to disk. Measured on 2 cores with Dask (default JAR, 6 k-factors +
+Lagrange): both give identical files; one mesh, the same time within the noise (4-5 s per command);
+meshes n_theta = 36, 72, 144: 8.9 s (split) and 8.6 s (mesh), the condensations dominating. A condensed default mesh (288 contact rows) is about 2 MB to move to
 another worker, 16 MB at n_theta = 240.
 """
 
@@ -47,6 +50,7 @@ from ..errors import DeckbridgeError
 from ..model import Model
 from ..outdir import prepare, staged
 from .cases import OPEN_STIFFNESS, Case, mesh_variants, sweep_cases
+from .local import LocalExecutor
 from .claims import tidy_frame, variant_claims
 from ..compare.series import series_of
 from .metrics import VariantResult, monotone, rnd, variant_metrics
@@ -88,17 +92,26 @@ def _groups(cases: list[Case]) -> list[tuple[object, list[Case]]]:
 
 
 def execute(todo: list[Case], store: CaseStore, run_id: str, client=None, strategy: str = "split",
-            progress: bool = True, on_case_stored: Callable[[Case], None] | None = None) -> dict:
-    """Solve the cases ``todo`` and store each as it finishes; returns {'computed', 'failed', ...}."""
+            progress: bool = True, on_case_stored: Callable[[Case], None] | None = None,
+            prebuilt: dict | None = None, meanwhile: Callable[[], object] | None = None) -> dict:
+    """Solve the cases ``todo`` and store each as it finishes; returns {'computed', 'failed', ...}.
+
+    ``prebuilt``: filled with case id -> :class:`.local.Prepared` for the cases whose table the local
+    executor's workers serialised, read back and turned into a series (the text is what is stored).
+    ``meanwhile``: work of the client (the report's imports) run by the local executor while a forked
+    process condenses."""
     done, failed = [], []
     timings: dict[str, dict] = {}
     bar = tqdm(total=len(todo), desc="sweep cases", unit="case", disable=not progress or not todo, leave=False)
 
     def finish(case: Case, out=None, error: str | None = None):
         if error is None:
-            df, summary, prov = out
+            df, summary, prov, *prep = out
             prov = dict(prov)
-            store.put(case, df, summary, run_id, extra=prov, wall=prov.pop("wall", None))
+            store.put(case, df, summary, run_id, extra=prov, wall=prov.pop("wall", None),
+                      text=prep[0].text if prep else None)
+            if prep and prebuilt is not None:
+                prebuilt[case.case_id] = prep[0]
             done.append(case.case_id)
             timings[case.case_id] = prov
         else:
@@ -127,11 +140,32 @@ def execute(todo: list[Case], store: CaseStore, run_id: str, client=None, strate
                         finish(c, error=str(exc))
                     else:
                         finish(c, res)
+        elif isinstance(client, LocalExecutor):
+            _execute_local(client, todo, strategy, jobs, finish, meanwhile)
         else:
             _execute_dask(client, todo, strategy, run_id, jobs, finish)
     finally:
         bar.close()
     return {"computed": done, "failed": failed, "timings": timings}
+
+
+def _execute_local(local: LocalExecutor, todo, strategy, jobs, finish, meanwhile=None) -> None:
+    """Each condense key condensed (on a forked process while this one runs ``meanwhile`` once), then its
+    cases on forked workers (:mod:`.local`)."""
+    for variant, cases in _groups(todo):
+        try:
+            cond = local.condense(variant.model.to_dict(), strategy == "split", meanwhile)
+        except DeckbridgeError as exc:
+            for c in cases:
+                finish(c, error=str(exc))
+            continue
+        finally:
+            meanwhile = None
+        for i, r in local.solve(cond, jobs(cases), [c.label for c in cases]):
+            if isinstance(r, DeckbridgeError):
+                finish(cases[i], error=str(r))
+            else:
+                finish(cases[i], r)
 
 
 def _execute_dask(client, todo, strategy, run_id, jobs, finish) -> None:
@@ -193,22 +227,28 @@ def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: 
     t1 = time.perf_counter()
     read_back: dict[str, pd.DataFrame] = {}
     series: dict[str, object] = {}
+    prebuilt: dict[str, object] = {}
 
     def stored(case: Case) -> None:
         """Read a case back from the store as soon as it is stored, and build its series: the client
         waits on the workers meanwhile, so the metrics below start with the work done."""
         try:
             rec = store.meta(case)
+            pre = prebuilt.pop(case.case_id, None)
             if rec is not None and not rec.get("error"):
-                read_back[case.case_id] = store.table(case)
-                series[case.case_id] = series_of(read_back[case.case_id], case.label)
+                if pre is not None and pre.series is not None:      # the stored text, read back on a worker
+                    read_back[case.case_id], series[case.case_id] = pre.table, pre.series
+                else:
+                    read_back[case.case_id] = store.table(case)
+                    series[case.case_id] = series_of(read_back[case.case_id], case.label)
         except Exception:          # noqa: BLE001  (left to the metrics below, which raise where they did)
             read_back.pop(case.case_id, None)
             series.pop(case.case_id, None)
         if on_case_stored is not None:
             on_case_stored(case)
 
-    ex = execute(todo, store, run_id, client, strategy, progress, stored)
+    ex = execute(todo, store, run_id, client, strategy, progress, stored, prebuilt,
+                 meanwhile=_import_report if report else None)
     t2 = time.perf_counter()
 
     records = {c.case_id: store.meta(c) for c in cases}
@@ -247,9 +287,16 @@ def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: 
     return {"summary": summary, "run": run, "paths": paths, "variants": results, "quantities": qtable}
 
 
+def _import_report() -> None:
+    """The report's modules (matplotlib, jinja2), imported before the local workers fork: they inherit them."""
+    from ..report import sweep_report  # noqa: F401
+
+
 def _executor_name(client, strategy) -> str:
     if client is None:
         return "in process"
+    if isinstance(client, LocalExecutor):
+        return client.name(strategy)
     try:
         n = len(client.scheduler_info().get("workers", {}))
     except Exception:
@@ -315,7 +362,8 @@ def write_outputs(outdir, model, summary: dict, results: list[VariantResult], ru
     if report:
         from ..report.sweep_report import render_sweep
         t = time.perf_counter()
-        mapper = None if client is None else (lambda fn, jobs: client.gather(client.map(fn, jobs, pure=False)))
+        mapper = (None if client is None else client.mapper() if isinstance(client, LocalExecutor)
+                  else (lambda fn, jobs: client.gather(client.map(fn, jobs, pure=False))))
         html = render_sweep(summary, results, model, mapper=mapper, quantities=quantities)
         run["timings_s"]["report"] = time.perf_counter() - t
     with staged(outdir) as stage:
