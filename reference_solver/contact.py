@@ -17,6 +17,7 @@ import scipy.linalg as sla
 
 from .errors import ReferenceSolverError
 from .linalg import cholesky_dense
+from .shifted import ShiftedSolver
 
 
 class Unbounded(ReferenceSolverError):
@@ -24,11 +25,14 @@ class Unbounded(ReferenceSolverError):
 
 
 def penalty_solve(S: np.ndarray, f: np.ndarray, k: np.ndarray, k_open: np.ndarray, c0: np.ndarray,
-                  u0: np.ndarray | None = None, maxit: int = 200) -> tuple[np.ndarray, int]:
+                  u0: np.ndarray | None = None, maxit: int = 200,
+                  solver: ShiftedSolver | None = None) -> tuple[np.ndarray, int]:
     """Displacements u of the contact dofs with bilinear gap springs; returns (u, Newton iterations).
 
     Newton on the open/closed states (full steps); when a state repeats, the step is damped by an
-    Armijo line search on the convex energy 1/2 u'Su - f'u + sum 1/2 D(g) g^2.
+    Armijo line search on the convex energy 1/2 u'Su - f'u + sum 1/2 D(g) g^2. The solves with
+    S + D go through ``solver`` (shifted.ShiftedSolver of ``S``; pass one to share its factor
+    between calls along a load path).
     """
     n = f.size
     u = np.zeros(n) if u0 is None else np.array(u0, float)
@@ -37,15 +41,15 @@ def penalty_solve(S: np.ndarray, f: np.ndarray, k: np.ndarray, k_open: np.ndarra
         g = c0 + v
         return 0.5 * v @ (S @ v) - f @ v + 0.5 * np.sum(np.where(g <= 0, k, k_open) * g * g)
 
+    solver = ShiftedSolver(S) if solver is None else solver
     seen = set()
     for it in range(1, maxit + 1):
         g = c0 + u
         closed = g <= 0
         D = np.where(closed, k, k_open)
-        cf = cholesky_dense(S + np.diag(D))
-        if cf is None:
+        u_new = solver.solve(D, f - D * c0)
+        if u_new is None:
             raise ReferenceSolverError("penalty: the contact stiffness S + D is not positive definite")
-        u_new = sla.cho_solve(cf, f - D * c0, check_finite=False)
         g_new = c0 + u_new
         if np.all(np.where(closed, g_new <= 0, g_new > 0)):
             return u_new, it

@@ -13,22 +13,25 @@ import numpy as np
 import scipy.linalg as sla
 
 from .linalg import cholesky_dense
+from .shifted import ShiftedSolver
 
 
 def _first(t: np.ndarray) -> int:
     return int(np.argmin(t))
 
 
-def track_penalty(S, fr, k, k_open, c0, lo, hi, u_lo, watch, max_events=None):
-    """Onset (lambda, row) for bilinear gap springs; ``fr`` = d f / d lambda on the contact dofs."""
+def track_penalty(S, fr, k, k_open, c0, lo, hi, u_lo, watch, max_events=None, solver=None):
+    """Onset (lambda, row) for bilinear gap springs; ``fr`` = d f / d lambda on the contact dofs.
+
+    ``solver``: shifted.ShiftedSolver of ``S`` (each event changes one row of the diagonal)."""
+    solver = ShiftedSolver(S) if solver is None else solver
     g = c0 + u_lo
     closed = g <= 0
     lam = lo
     for _ in range(max_events or 4 * g.size + 10):
-        cf = cholesky_dense(S + np.diag(np.where(closed, k, k_open)))
-        if cf is None:
+        dg = solver.solve(np.where(closed, k, k_open), fr)
+        if dg is None:
             return None
-        dg = sla.cho_solve(cf, fr, check_finite=False)
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where((closed & (dg > 0)) | (~closed & (dg < 0)), -g / dg, np.inf)
         t = np.maximum(t, 0.0)
