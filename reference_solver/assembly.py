@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .elements import hex8_stiffness
+from .elements import hex8_stiffness_pairs
 
 CHUNK = 8192  # elements per batch of element matrices
 
@@ -65,15 +65,14 @@ def assemble_blocks(nodes: np.ndarray, hexes: np.ndarray, E: float, nu: float,
     inv = inv.astype(idx_t, copy=False)
     blocks = np.zeros((9, uniq.size))
     for s in range(0, ne, chunk):
-        ke = hex8_stiffness(nodes[hexes[s:s + chunk]], E, nu, element)          # (m, 24, 24)
+        ke = hex8_stiffness_pairs(nodes[hexes[s:s + chunk]], E, nu, element)    # (m, 3, 3, 8, 8)
         m = ke.shape[0]
-        kb = ke.reshape(m, 8, 3, 8, 3).transpose(0, 1, 3, 2, 4).reshape(m * 64, 9)
-        del ke
+        kb = ke.reshape(m, 9, 64)
         sel = inv[64 * s:64 * (s + m)]
         lo, hi = int(sel.min()), int(sel.max()) + 1                 # pairs this batch touches
         loc = sel - lo
         for c in range(9):
-            blocks[c, lo:hi] += np.bincount(loc, weights=kb[:, c], minlength=hi - lo)
+            blocks[c, lo:hi] += np.bincount(loc, weights=kb[:, c].ravel(), minlength=hi - lo)
     del inv
     node_t = np.int32 if n < 2**31 - 1 else np.int64
     rows, cols = np.divmod(uniq, n)
