@@ -255,16 +255,27 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     Fi = F[perm[:ni]]
     B = np.zeros((n, F.shape[1]))
     B[:ni] = Fi
-    Y = solve_aug(B)[ni:].reshape(nr, -1)                            # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
+    X0 = solve_aug(B).reshape(n, -1)                                 # (K + D0)^-1 [f_i; 0], permuted
+    Y = X0[ni:]                                                      # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
     fhat = F[r] + SD @ Y
     t3 = time.perf_counter()
+    # [f_i; v] = [f_i; 0] + [0; v]: L^-1 [0; v] = [0; L_rr^-1 v], so the second part is one
+    # back substitution (half a solve) when the factor keeps the natural order (P = I)
+    half = how == "supernodes" and np.array_equal(P, np.arange(n))
 
     def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
         shape = (n,) + np.shape(u_r)[1:]
+        v = SD @ (u_r - Y @ coeffs)
+        u = np.empty(shape)
+        if half:
+            z = np.zeros((n,) + v.shape[1:])
+            z[ni:] = sla.solve_triangular(Lrr, v, lower=True, check_finite=False)
+            x = X0 @ coeffs + np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
+            u[perm] = x
+            return u
         b = np.empty(shape)
         b[:ni] = Fi @ coeffs
-        b[ni:] = SD @ (u_r - Y @ coeffs)
-        u = np.empty(shape)
+        b[ni:] = v
         u[perm] = solve_aug(b).reshape(shape)
         return u
 
