@@ -17,7 +17,7 @@ import scipy.linalg as sla
 
 from .errors import ReferenceSolverError
 from .linalg import cholesky_dense
-from .shifted import ShiftedSolver
+from .shifted import ShiftedSolver, SubsetSolver
 
 
 class Unbounded(ReferenceSolverError):
@@ -69,16 +69,19 @@ def penalty_solve(S: np.ndarray, f: np.ndarray, k: np.ndarray, k_open: np.ndarra
 
 
 def lcp_active_set(S: np.ndarray, q: np.ndarray, g0: np.ndarray | None = None,
-                   max_gap: float = np.inf, maxit: int = 50) -> tuple[np.ndarray, int]:
+                   max_gap: float = np.inf, maxit: int = 50,
+                   solver: SubsetSolver | None = None) -> tuple[np.ndarray, int]:
     """Exact solution g >= 0 of the LCP (w = S g + q >= 0, g.w = 0); returns (g, iterations).
 
     Primal-dual active set (semi-smooth Newton on min(g, w) = 0): the closed set A holds g = 0,
     the open set I holds w = 0; A is updated from the signs of w_A and g_I until it repeats.
     Warm-started from ``g0``. When it does not settle in ``maxit`` iterations (it can cycle on
     matrices that are not M-matrices) or meets a singular open set, the finite primal active-set
-    method :func:`lcp_primal_active_set` finishes from the best feasible point.
+    method :func:`lcp_primal_active_set` finishes from the best feasible point. The solves with
+    S_II go through ``solver`` (shifted.SubsetSolver of ``S``; pass one to share it along a path).
     """
     n = q.size
+    solver = SubsetSolver(S) if solver is None else solver
     if n == 0:
         return np.zeros(0), 0
     d = np.diag(S)
@@ -92,10 +95,10 @@ def lcp_active_set(S: np.ndarray, q: np.ndarray, g0: np.ndarray | None = None,
         I = np.flatnonzero(~closed)
         g = np.zeros(n)
         if I.size:
-            cf = cholesky_dense(S[np.ix_(I, I)])
-            if cf is None:
+            gI = solver.solve(I, -q[I])
+            if gI is None:
                 break
-            g[I] = sla.cho_solve(cf, -q[I], check_finite=False)
+            g[I] = gI
             if not np.all(np.isfinite(g)) or np.abs(g).max() > max_gap:
                 break
         w = S @ g + q

@@ -113,3 +113,99 @@ def _capacitance_solve(M: np.ndarray, up: np.ndarray, r: np.ndarray) -> np.ndarr
     if u.size:
         w[u] = xr - Xd @ w[d]
     return w
+
+
+class SubsetSolver:
+    """x = S_II^-1 b for principal submatrices of a symmetric positive definite ``S`` (n, n) whose
+    index sets ``I`` (the open rows of the Lagrange method) differ from a reference I0 in a few rows.
+
+    One Cholesky factor of S_00 (rows I0) serves I = I0 - R + A (R removed, A added, at most
+    ``max_rank`` together): x_A and multipliers mu holding x_R = 0 solve the small bordered system
+        [ S_AA - S_A0 Z_A    -Z_A[R]^T ] [x_A]   [ b_A - S_A0 y ]
+        [ -Z_A[R]            -W_RR     ] [mu ] = [ -y_R         ]
+    with y = S_00^-1 b (0 on R), Z_A = S_00^-1 S_0A, W_RR = (S_00^-1)_RR (columns cached), then
+    x_0 = y - Z_A x_A - S_00^-1 E_R mu. Checked by its residual like ``ShiftedSolver``; otherwise
+    S_II is factored and becomes the reference.
+    """
+
+    def __init__(self, S: np.ndarray, max_rank: int | None = None, rtol: float = 1e-11):
+        self.S = S
+        self.n = S.shape[0]
+        self.max_rank = max(16, self.n // 8) if max_rank is None else max_rank
+        self.rtol = rtol
+        self.cf = None
+        self.idx0 = None
+        self.pos0 = np.full(self.n, -1)
+        self.cols: dict[tuple[str, int], np.ndarray] = {}
+        self.factorisations = 0
+        self.solves = 0
+
+    def _refactor(self, I: np.ndarray) -> bool:
+        self.factorisations += 1
+        self.cf = cholesky_dense(self.S[np.ix_(I, I)]) if I.size else None
+        self.idx0, self.cols = (I.copy() if self.cf is not None else None), {}
+        self.pos0[:] = -1
+        if self.cf is not None:
+            self.pos0[I] = np.arange(I.size)
+        return self.cf is not None
+
+    def _columns(self, kind: str, J: np.ndarray) -> np.ndarray:
+        missing = [j for j in J.tolist() if (kind, j) not in self.cols]
+        if missing:
+            if kind == "a":                                     # S_00^-1 S_0j
+                E = self.S[np.ix_(self.idx0, missing)]
+            else:                                               # S_00^-1 e_j
+                E = np.zeros((self.idx0.size, len(missing)))
+                E[self.pos0[missing], np.arange(len(missing))] = 1.0
+            Z = sla.cho_solve(self.cf, E, check_finite=False)
+            for c, j in enumerate(missing):
+                self.cols[(kind, j)] = Z[:, c]
+        return np.column_stack([self.cols[(kind, j)] for j in J.tolist()]) if J.size else np.zeros((self.idx0.size, 0))
+
+    def _bordered(self, I: np.ndarray, b: np.ndarray, add: np.ndarray, rem: np.ndarray) -> np.ndarray | None:
+        bfull = np.zeros(self.n)
+        bfull[I] = b
+        y = sla.cho_solve(self.cf, bfull[self.idx0], check_finite=False)
+        if add.size == 0 and rem.size == 0:
+            return y
+        ZA, ZR = self._columns("a", add), self._columns("r", rem)
+        pr = self.pos0[rem]
+        SA0 = self.S[np.ix_(add, self.idx0)]
+        na = add.size
+        H = np.empty((na + rem.size,) * 2)
+        H[:na, :na] = self.S[np.ix_(add, add)] - SA0 @ ZA
+        H[na:, :na] = -ZA[pr]
+        H[:na, na:] = -ZA[pr].T
+        H[na:, na:] = -ZR[pr]
+        rhs = np.concatenate([bfull[add] - SA0 @ y, -y[pr]])
+        try:
+            s = np.linalg.solve(H, rhs)
+        except np.linalg.LinAlgError:
+            return None
+        x = np.zeros(self.n)
+        x[self.idx0] = y - ZA @ s[:na] - ZR @ s[na:]
+        x[add] = s[:na]
+        Sx = (self.S @ x)[I]
+        res = np.linalg.norm(b - Sx)
+        if not (np.isfinite(res) and res <= self.rtol * max(np.linalg.norm(b), np.linalg.norm(Sx))):
+            return None
+        return x[I]
+
+    def solve(self, I: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+        """x on the sorted index set ``I`` for ``b`` on ``I``, or None when S_II is not positive definite."""
+        self.solves += 1
+        I = np.asarray(I)
+        if I.size == 0:
+            return np.zeros(0)
+        if self.cf is not None:
+            inI = np.zeros(self.n, bool)
+            inI[I] = True
+            add = I[self.pos0[I] < 0]
+            rem = self.idx0[~inI[self.idx0]]
+            if add.size + rem.size <= self.max_rank:
+                x = self._bordered(I, b, add, rem)
+                if x is not None:
+                    return x
+        if not self._refactor(I):
+            return None
+        return sla.cho_solve(self.cf, b, check_finite=False)

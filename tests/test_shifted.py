@@ -50,3 +50,18 @@ def test_an_indefinite_update_is_caught_by_the_residual_check(flip):
     solver.solve(D, np.ones(30))
     D[:flip] = -np.diag(S)[:flip] - 10.0           # the updated matrix is not positive definite
     assert solver.solve(D, np.ones(30)) is None
+
+
+def test_subsets_near_the_reference_match_direct_solves_of_the_principal_submatrix():
+    from reference_solver.shifted import SubsetSolver
+    S, rng = _spd(50, 3)
+    solver = SubsetSolver(S, max_rank=8)
+    open_ = np.zeros(50, bool)
+    open_[10:30] = True
+    for step in range(10):                         # one row opens or closes per event
+        open_[rng.integers(50)] ^= True
+        I = np.flatnonzero(open_)
+        b = rng.standard_normal(I.size)
+        np.testing.assert_allclose(solver.solve(I, b), np.linalg.solve(S[np.ix_(I, I)], b), rtol=1e-10, atol=1e-12)
+    assert solver.factorisations <= 2 and solver.solves == 10
+    assert solver.solve(np.zeros(0, int), np.zeros(0)).size == 0
