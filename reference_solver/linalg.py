@@ -255,23 +255,26 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     Fi = F[perm[:ni]]
     B = np.zeros((n, F.shape[1]))
     B[:ni] = Fi
-    X0 = solve_aug(B).reshape(n, -1)                                 # (K + D0)^-1 [f_i; 0], permuted
-    Y = X0[ni:]                                                      # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
+    # with the natural order kept (P = I): L^-1 [0; v] = [0; L_rr^-1 v], so every solve with a
+    # right-hand side [f_i; v] is the stored forward part Z0 = L^-1 [f_i; 0] plus [0; L_rr^-1 v]
+    # and one back substitution; the tail of (K + D0)^-1 [f_i; 0] is L_rr^-T Z0_r
+    half = how == "supernodes" and np.array_equal(P, np.arange(n))
+    if half:
+        Z0 = np.asarray(f.solve_L(B, use_LDLt_decomposition=False)).reshape(n, -1)
+        Y = sla.solve_triangular(Lrr, Z0[ni:], lower=True, trans="T", check_finite=False)
+    else:
+        Y = solve_aug(B)[ni:].reshape(nr, -1)                        # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
     fhat = F[r] + SD @ Y
     t3 = time.perf_counter()
-    # [f_i; v] = [f_i; 0] + [0; v]: L^-1 [0; v] = [0; L_rr^-1 v], so the second part is one
-    # back substitution (half a solve) when the factor keeps the natural order (P = I)
-    half = how == "supernodes" and np.array_equal(P, np.arange(n))
 
     def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
         shape = (n,) + np.shape(u_r)[1:]
         v = SD @ (u_r - Y @ coeffs)
         u = np.empty(shape)
         if half:
-            z = np.zeros((n,) + v.shape[1:])
-            z[ni:] = sla.solve_triangular(Lrr, v, lower=True, check_finite=False)
-            x = X0 @ coeffs + np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
-            u[perm] = x
+            z = Z0 @ coeffs
+            z[ni:] += sla.solve_triangular(Lrr, v, lower=True, check_finite=False)
+            u[perm] = np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
             return u
         b = np.empty(shape)
         b[:ni] = Fi @ coeffs
