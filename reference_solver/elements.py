@@ -134,7 +134,7 @@ def hex8_stiffness_pairs(xyz: np.ndarray, E: float, nu: float, element: str = "c
         Kaa = _as_matrix(_isotropic_pairs(Y, Y, lam, mu))                      # (ne, 9, 9)
         C = Kua @ np.linalg.solve(Kaa, np.swapaxes(Kua, 1, 2))                 # (ne, 24, 24)
         K -= C.reshape(ne, 8, 3, 8, 3).transpose(0, 2, 4, 1, 3)
-    K += K.transpose(0, 2, 1, 4, 3)
+    K = np.add(K, K.transpose(0, 2, 1, 4, 3))                   # symmetric part (no overlap copy)
     K *= 0.5
     return K
 
