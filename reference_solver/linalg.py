@@ -245,8 +245,9 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     C = Lrr @ Lrr.T                                                  # S + D0 in the order tail
     back = np.empty(nr, np.int64)
     back[tail - (n - nr)] = np.arange(nr)
-    SD = C[np.ix_(back, back)]                                       # S + D0 in the order of r
-    S = SD - np.diag(d0)
+    SD = C if np.array_equal(back, np.arange(nr)) else C[np.ix_(back, back)]   # S + D0, order of r
+    S = SD.copy()
+    S[np.diag_indices(nr)] -= d0
 
     def solve_aug(b_perm: np.ndarray) -> np.ndarray:
         return np.asarray(f(b_perm))
