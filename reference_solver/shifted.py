@@ -8,8 +8,9 @@ from D0 in at most ``max_rank`` rows J, by the Woodbury identity
 with the columns Z of A0^-1 cached per row (2 n^2 flops each, against n^3 / 3 for a factorisation).
 Every such answer is checked by its residual (|b - (S + D) x| <= rtol max(|b|, |S x|, |D x|), the
 scale of the terms that cancel; a direct solve meets it with room); a state farther than
-``max_rank`` rows from D0, a capacitance that is not of the right inertia (S + diag(D) not positive definite) or a failed check
-refactors at D (which becomes the reference, or reports that S + diag(D) is not positive definite).
+``max_rank`` rows from D0, a capacitance that is not of the right inertia (S + diag(D) not positive
+definite) or a failed check refactors at D (which becomes the reference, or reports that
+S + diag(D) is not positive definite).
 ``factorisations`` and ``solves`` count the work.
 """
 
@@ -131,7 +132,7 @@ class SubsetSolver:
     index sets ``I`` (the open rows of the Lagrange method) differ from a reference I0 in a few rows.
 
     One Cholesky factor of S_00 (rows I0) serves I = I0 - R + A (R removed, A added, at most
-    ``max_rank`` together): x_A and multipliers mu holding x_R = 0 solve the small bordered system
+    ``max_rank`` together, by default |I0| / 6): x_A and multipliers mu holding x_R = 0 solve the small bordered system
         [ S_AA - S_A0 Z_A    -Z_A[R]^T ] [x_A]   [ b_A - S_A0 y ]
         [ -Z_A[R]            -W_RR     ] [mu ] = [ -y_R         ]
     with y = S_00^-1 b (0 on R), Z_A = S_00^-1 S_0A, W_RR = (S_00^-1)_RR (columns cached), then
@@ -142,7 +143,7 @@ class SubsetSolver:
     def __init__(self, S: np.ndarray, max_rank: int | None = None, rtol: float = 1e-11):
         self.S = S
         self.n = S.shape[0]
-        self.max_rank = max(16, self.n // 8) if max_rank is None else max_rank
+        self.max_rank = max_rank          # None: max(8, |I0| / 6) (columns cost 2 |I0|^2, a factor |I0|^3 / 3)
         self.rtol = rtol
         self.cf = None
         self.idx0 = None
@@ -213,7 +214,8 @@ class SubsetSolver:
             inI[I] = True
             add = I[self.pos0[I] < 0]
             rem = self.idx0[~inI[self.idx0]]
-            if add.size + rem.size <= self.max_rank:
+            limit = max(8, self.idx0.size // 6) if self.max_rank is None else self.max_rank
+            if add.size + rem.size <= limit:
                 x = self._bordered(I, b, add, rem)
                 if x is not None:
                     return x
