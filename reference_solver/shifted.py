@@ -132,7 +132,8 @@ class SubsetSolver:
     index sets ``I`` (the open rows of the Lagrange method) differ from a reference I0 in a few rows.
 
     One Cholesky factor of S_00 (rows I0) serves I = I0 - R + A (R removed, A added, at most
-    ``max_rank`` together, by default |I0| / 6): x_A and multipliers mu holding x_R = 0 solve the small bordered system
+    ``max_rank`` together, by default |I0| / 6): x_A and multipliers mu holding x_R = 0 solve the
+    small bordered system
         [ S_AA - S_A0 Z_A    -Z_A[R]^T ] [x_A]   [ b_A - S_A0 y ]
         [ -Z_A[R]            -W_RR     ] [mu ] = [ -y_R         ]
     with y = S_00^-1 b (0 on R), Z_A = S_00^-1 S_0A, W_RR = (S_00^-1)_RR (columns cached), then
