@@ -11,7 +11,8 @@ scale of the terms that cancel; a direct solve meets it with room); a state fart
 ``max_rank`` rows from D0, a capacitance that is not of the right inertia (S + diag(D) not positive
 definite) or a failed check refactors at D (which becomes the reference, or reports that
 S + diag(D) is not positive definite).
-``factorisations`` and ``solves`` count the work.
+``factorisations`` and ``solves`` count the work of one solver; ``COUNTS`` sums them over all
+solvers of the process (bench/scale.py prints it per method).
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ import numpy as np
 import scipy.linalg as sla
 
 from .linalg import cholesky_dense
+
+COUNTS = {"factorisations": 0, "solves": 0}   # dense factorisations and solves, all solvers
 
 
 class ShiftedSolver:
@@ -38,6 +41,7 @@ class ShiftedSolver:
 
     def _refactor(self, D: np.ndarray) -> bool:
         self.factorisations += 1
+        COUNTS["factorisations"] += 1
         A = self.S.copy()
         A[np.diag_indices_from(A)] += D
         cf = _cholesky_inplace(A)
@@ -74,6 +78,7 @@ class ShiftedSolver:
     def solve(self, D: np.ndarray, b: np.ndarray) -> np.ndarray | None:
         """Solution x, or None when S + diag(D) is not positive definite."""
         self.solves += 1
+        COUNTS["solves"] += 1
         D = np.asarray(D, float)
         if self.cf is None:
             if not self._refactor(D):
@@ -155,6 +160,7 @@ class SubsetSolver:
 
     def _refactor(self, I: np.ndarray) -> bool:
         self.factorisations += 1
+        COUNTS["factorisations"] += 1
         self.cf = _cholesky_inplace(self.S[np.ix_(I, I)]) if I.size else None
         self.idx0, self.cols = (I.copy() if self.cf is not None else None), {}
         self.pos0[:] = -1
@@ -207,6 +213,7 @@ class SubsetSolver:
     def solve(self, I: np.ndarray, b: np.ndarray) -> np.ndarray | None:
         """x on the sorted index set ``I`` for ``b`` on ``I``, or None when S_II is not positive definite."""
         self.solves += 1
+        COUNTS["solves"] += 1
         I = np.asarray(I)
         if I.size == 0:
             return np.zeros(0)
