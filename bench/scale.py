@@ -72,7 +72,7 @@ def case_path(nt, nz, nr, threads) -> dict:
     import reference_solver as rs
     from deckbridge.mesh import build_mesh
     from deckbridge.solve import build_problem
-    from reference_solver import estimate, stages
+    from reference_solver import estimate, shifted, stages
     st = Stages()
     model = _model(nt, nz, nr)
     p = build_problem(model, build_mesh(model))
@@ -86,10 +86,12 @@ def case_path(nt, nz, nr, threads) -> dict:
     out = {"dofs": 3 * p.n_nodes, "hexes": len(p.hexes), "contact_rows": p.n_contacts,
            "retained": system.info["retained"], "schur": system.info["schur"]}
     for method in ("penalty", "lagrange"):
+        before = dict(shifted.COUNTS)
         sol = rs.solve_path(system, method, lambda_max=model.steps.lambda_max,
                             increments=model.steps.increments, recover=True, threads=threads)
         st(method)
         out[f"{method}_liftoff"] = sol.liftoff_load_factor
+        out[f"{method}_dense"] = {k: shifted.COUNTS[k] - before[k] for k in before}
     out["path_s"] = time.perf_counter() - t0
     out["path_cpu_s"] = time.process_time() - c0
     out["stages"] = st.rows
@@ -243,6 +245,11 @@ def main(argv=None) -> int:
                   f" (CPU {path['path_cpu_s']:.2f} s);"
                   f" peak RSS {path['peak_mb']:.0f} MB (estimate from the mesh {path['estimate_mb']:.0f} MB)")
             print(f"   onsets: penalty {path['penalty_liftoff']:.4f}, Lagrange {path['lagrange_liftoff']:.4f}")
+            for m in ("penalty", "lagrange"):
+                if f"{m}_dense" in path:
+                    what = "S_c + D" if m == "penalty" else "S_c's open block S_II"
+                    print(f"   {m}: {path[f'{m}_dense']['factorisations']} dense factorisations ({what})"
+                          f" for {path[f'{m}_dense']['solves']} solves")
         if "error" in fac:
             print(f"   factorisation failed: {fac['error']}")
         elif fac:

@@ -17,6 +17,7 @@ import scipy.linalg as sla
 
 from .errors import ReferenceSolverError
 from .linalg import cholesky_dense
+from .shifted import ShiftedSolver, SubsetSolver
 
 
 class Unbounded(ReferenceSolverError):
@@ -24,11 +25,14 @@ class Unbounded(ReferenceSolverError):
 
 
 def penalty_solve(S: np.ndarray, f: np.ndarray, k: np.ndarray, k_open: np.ndarray, c0: np.ndarray,
-                  u0: np.ndarray | None = None, maxit: int = 200) -> tuple[np.ndarray, int]:
+                  u0: np.ndarray | None = None, maxit: int = 200,
+                  solver: ShiftedSolver | None = None) -> tuple[np.ndarray, int]:
     """Displacements u of the contact dofs with bilinear gap springs; returns (u, Newton iterations).
 
     Newton on the open/closed states (full steps); when a state repeats, the step is damped by an
-    Armijo line search on the convex energy 1/2 u'Su - f'u + sum 1/2 D(g) g^2.
+    Armijo line search on the convex energy 1/2 u'Su - f'u + sum 1/2 D(g) g^2. The solves with
+    S + D go through ``solver`` (shifted.ShiftedSolver of ``S``; pass one to share its factor
+    between calls along a load path).
     """
     n = f.size
     u = np.zeros(n) if u0 is None else np.array(u0, float)
@@ -37,15 +41,15 @@ def penalty_solve(S: np.ndarray, f: np.ndarray, k: np.ndarray, k_open: np.ndarra
         g = c0 + v
         return 0.5 * v @ (S @ v) - f @ v + 0.5 * np.sum(np.where(g <= 0, k, k_open) * g * g)
 
+    solver = ShiftedSolver(S) if solver is None else solver
     seen = set()
     for it in range(1, maxit + 1):
         g = c0 + u
         closed = g <= 0
         D = np.where(closed, k, k_open)
-        cf = cholesky_dense(S + np.diag(D))
-        if cf is None:
+        u_new = solver.solve(D, f - D * c0)
+        if u_new is None:
             raise ReferenceSolverError("penalty: the contact stiffness S + D is not positive definite")
-        u_new = sla.cho_solve(cf, f - D * c0, check_finite=False)
         g_new = c0 + u_new
         if np.all(np.where(closed, g_new <= 0, g_new > 0)):
             return u_new, it
@@ -65,16 +69,19 @@ def penalty_solve(S: np.ndarray, f: np.ndarray, k: np.ndarray, k_open: np.ndarra
 
 
 def lcp_active_set(S: np.ndarray, q: np.ndarray, g0: np.ndarray | None = None,
-                   max_gap: float = np.inf, maxit: int = 50) -> tuple[np.ndarray, int]:
+                   max_gap: float = np.inf, maxit: int = 50,
+                   solver: SubsetSolver | None = None) -> tuple[np.ndarray, int]:
     """Exact solution g >= 0 of the LCP (w = S g + q >= 0, g.w = 0); returns (g, iterations).
 
     Primal-dual active set (semi-smooth Newton on min(g, w) = 0): the closed set A holds g = 0,
     the open set I holds w = 0; A is updated from the signs of w_A and g_I until it repeats.
     Warm-started from ``g0``. When it does not settle in ``maxit`` iterations (it can cycle on
     matrices that are not M-matrices) or meets a singular open set, the finite primal active-set
-    method :func:`lcp_primal_active_set` finishes from the best feasible point.
+    method :func:`lcp_primal_active_set` finishes from the best feasible point. The solves with
+    S_II go through ``solver`` (shifted.SubsetSolver of ``S``; pass one to share it along a path).
     """
     n = q.size
+    solver = SubsetSolver(S) if solver is None else solver
     if n == 0:
         return np.zeros(0), 0
     d = np.diag(S)
@@ -88,10 +95,10 @@ def lcp_active_set(S: np.ndarray, q: np.ndarray, g0: np.ndarray | None = None,
         I = np.flatnonzero(~closed)
         g = np.zeros(n)
         if I.size:
-            cf = cholesky_dense(S[np.ix_(I, I)])
-            if cf is None:
+            gI = solver.solve(I, -q[I])
+            if gI is None:
                 break
-            g[I] = sla.cho_solve(cf, -q[I], check_finite=False)
+            g[I] = gI
             if not np.all(np.isfinite(g)) or np.abs(g).max() > max_gap:
                 break
         w = S @ g + q

@@ -82,28 +82,33 @@ def _lame(E: float, nu: float) -> tuple[float, float]:
     return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
 
 
-def _isotropic_block(X: np.ndarray, Y: np.ndarray, lam: float, mu: float) -> np.ndarray:
-    """Stiffness coupling of two sets of gradient fields, Lame form.
+def _isotropic_pairs(X: np.ndarray, Y: np.ndarray, lam: float, mu: float) -> np.ndarray:
+    """Stiffness coupling of two sets of gradient fields, Lame form, by component pairs.
 
     ``X`` (ne, 3, p, ng) and ``Y`` (ne, 3, q, ng): spatial gradients d/dx_i of p (q) scalar shape
-    functions at the Gauss points, already scaled by sqrt(w det J). Returns (ne, 3p, 3q) with dofs
-    (field, component): K[a i, b j] = sum_g lam X_ia Y_jb + mu X_ja Y_ib + mu delta_ij X_ka Y_kb.
+    functions at the Gauss points, already scaled by sqrt(w det J). Returns (ne, 3, 3, p, q):
+    [e, i, j, a, b] = K[a i, b j] = sum_g lam X_ia Y_jb + mu X_ja Y_ib + mu delta_ij X_ka Y_kb
+    (component-major: each 3x3 component is one contiguous p x q block per element).
     """
-    ne, _, p, ng = X.shape
-    q = Y.shape[2]
-    M = np.matmul(X.reshape(ne, 3 * p, ng), Y.reshape(ne, 3 * q, ng).transpose(0, 2, 1))   # [e, ia, jb]
-    M = M.reshape(ne, 3, p, 3, q).transpose(0, 2, 1, 4, 3)                  # (ne, p, 3, q, 3)
+    M = np.matmul(X[:, :, None], np.swapaxes(Y, 2, 3)[:, None])            # [e, i, j, a, b] = X_ia . Y_jb
     K = np.multiply(M, lam)
-    K += np.multiply(np.swapaxes(M, 2, 4), mu)
-    tr = M[:, :, 0, :, 0] + M[:, :, 1, :, 1] + M[:, :, 2, :, 2]
+    K += np.multiply(np.swapaxes(M, 1, 2), mu)
+    tr = M[:, 0, 0] + M[:, 1, 1] + M[:, 2, 2]
     tr *= mu
     for i in range(3):
-        K[:, :, i, :, i] += tr
-    return K.reshape(ne, 3 * p, 3 * q)
+        K[:, i, i] += tr
+    return K
 
 
-def hex8_stiffness(xyz: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
-    """Element stiffness matrices (ne, 24, 24) of hexahedra with corner coordinates ``xyz`` (ne, 8, 3)."""
+def _as_matrix(K: np.ndarray) -> np.ndarray:
+    """(ne, 3, 3, p, q) component pairs -> (ne, 3p, 3q) with dofs (field, component)."""
+    ne, _, _, p, q = K.shape
+    return K.transpose(0, 3, 1, 4, 2).reshape(ne, 3 * p, 3 * q)
+
+
+def hex8_stiffness_pairs(xyz: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
+    """Element stiffness of hexahedra ``xyz`` (ne, 8, 3) as node-pair blocks (ne, 3, 3, 8, 8) [N/m]:
+    [e, i, j, a, b] couples component i of node a to component j of node b (symmetric)."""
     if element not in ELEMENTS:
         raise ValueError(f"element = {element!r}: must be one of {', '.join(ELEMENTS)}")
     xyz = np.asarray(xyz, float)
@@ -123,14 +128,20 @@ def hex8_stiffness(xyz: np.ndarray, E: float, nu: float, element: str = "c3d8i")
         X[..., g] = (inv @ shape_gradients(xi)) * root         # dN/dx
         if inc:                                                # dP_m/dx with J0, modes P_m = 1 - xi_m^2
             Y[..., g] = (inv0 @ np.diag(-2.0 * xi)) * (det0 / det)[:, None, None] * root
-    K = _isotropic_block(X, X, lam, mu)
-    if inc:
-        Kua = _isotropic_block(X, Y, lam, mu)                  # (ne, 24, 9)
-        Kaa = _isotropic_block(Y, Y, lam, mu)                  # (ne, 9, 9)
-        K -= Kua @ np.linalg.solve(Kaa, np.swapaxes(Kua, 1, 2))
-    K += np.swapaxes(K, 1, 2)
+    K = _isotropic_pairs(X, X, lam, mu)
+    if inc:                                                    # condense the modes: K -= Kua Kaa^-1 Kau
+        Kua = _as_matrix(_isotropic_pairs(X, Y, lam, mu))                      # (ne, 24, 9)
+        Kaa = _as_matrix(_isotropic_pairs(Y, Y, lam, mu))                      # (ne, 9, 9)
+        C = Kua @ np.linalg.solve(Kaa, np.swapaxes(Kua, 1, 2))                 # (ne, 24, 24)
+        K -= C.reshape(ne, 8, 3, 8, 3).transpose(0, 2, 4, 1, 3)
+    K = np.add(K, K.transpose(0, 2, 1, 4, 3))                   # symmetric part (no overlap copy)
     K *= 0.5
     return K
+
+
+def hex8_stiffness(xyz: np.ndarray, E: float, nu: float, element: str = "c3d8i") -> np.ndarray:
+    """Element stiffness matrices (ne, 24, 24) of hexahedra with corner coordinates ``xyz`` (ne, 8, 3)."""
+    return _as_matrix(hex8_stiffness_pairs(xyz, E, nu, element))
 
 
 def centroid_strain(xyz: np.ndarray, ue: np.ndarray) -> np.ndarray:

@@ -32,10 +32,9 @@ def factor_entries(hexes: np.ndarray, n_nodes: int) -> int | None:
     from .linalg import _cholmod
     if _cholmod is None:
         return None
-    h = np.asarray(hexes, np.int64)
-    pairs = np.unique((h[:, :, None] * n_nodes + h[:, None, :]).ravel())
-    rows, cols = np.divmod(pairs, n_nodes)
-    G = sp.csc_matrix((np.ones(pairs.size), (rows, cols)), shape=(n_nodes, n_nodes))
+    from .assembly import node_pairs
+    rows, cols, _ = node_pairs(np.asarray(hexes), n_nodes)
+    G = sp.csc_matrix((np.ones(rows.size), (rows, cols)), shape=(n_nodes, n_nodes))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         f = _cholmod.analyze(G, mode="supernodal")

@@ -273,8 +273,9 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     C = Lrr @ Lrr.T                                                  # S + D0 in the order tail
     back = np.empty(nr, np.int64)
     back[tail - (n - nr)] = np.arange(nr)
-    SD = C[np.ix_(back, back)]                                       # S + D0 in the order of r
-    S = SD - np.diag(d0)
+    SD = C if np.array_equal(back, np.arange(nr)) else C[np.ix_(back, back)]   # S + D0, order of r
+    S = SD.copy()
+    S[np.diag_indices(nr)] -= d0
 
     def solve_aug(b_perm: np.ndarray) -> np.ndarray:
         return np.asarray(f(b_perm))
@@ -283,16 +284,30 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     Fi = F[perm[:ni]]
     B = np.zeros((n, F.shape[1]))
     B[:ni] = Fi
-    Y = solve_aug(B)[ni:].reshape(nr, -1)                            # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
+    # with the natural order kept (P = I): L^-1 [0; v] = [0; L_rr^-1 v], so every solve with a
+    # right-hand side [f_i; v] is the stored forward part Z0 = L^-1 [f_i; 0] plus [0; L_rr^-1 v]
+    # and one back substitution; the tail of (K + D0)^-1 [f_i; 0] is L_rr^-T Z0_r
+    half = how == "supernodes" and np.array_equal(P, np.arange(n))
+    if half:
+        Z0 = np.asarray(f.solve_L(B, use_LDLt_decomposition=False)).reshape(n, -1)
+        Y = sla.solve_triangular(Lrr, Z0[ni:], lower=True, trans="T", check_finite=False)
+    else:
+        Y = solve_aug(B)[ni:].reshape(nr, -1)                        # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
     fhat = F[r] + SD @ Y
     t3 = time.perf_counter()
 
     def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
         shape = (n,) + np.shape(u_r)[1:]
+        v = SD @ (u_r - Y @ coeffs)
+        u = np.empty(shape)
+        if half:
+            z = Z0 @ coeffs
+            z[ni:] += sla.solve_triangular(Lrr, v, lower=True, check_finite=False)
+            u[perm] = np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
+            return u
         b = np.empty(shape)
         b[:ni] = Fi @ coeffs
-        b[ni:] = SD @ (u_r - Y @ coeffs)
-        u = np.empty(shape)
+        b[ni:] = v
         u[perm] = solve_aug(b).reshape(shape)
         return u
 

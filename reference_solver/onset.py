@@ -10,25 +10,26 @@ bisects).
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
 
-from .linalg import cholesky_dense
+from .shifted import ShiftedSolver, SubsetSolver
 
 
 def _first(t: np.ndarray) -> int:
     return int(np.argmin(t))
 
 
-def track_penalty(S, fr, k, k_open, c0, lo, hi, u_lo, watch, max_events=None):
-    """Onset (lambda, row) for bilinear gap springs; ``fr`` = d f / d lambda on the contact dofs."""
+def track_penalty(S, fr, k, k_open, c0, lo, hi, u_lo, watch, max_events=None, solver=None):
+    """Onset (lambda, row) for bilinear gap springs; ``fr`` = d f / d lambda on the contact dofs.
+
+    ``solver``: shifted.ShiftedSolver of ``S`` (each event changes one row of the diagonal)."""
+    solver = ShiftedSolver(S) if solver is None else solver
     g = c0 + u_lo
     closed = g <= 0
     lam = lo
     for _ in range(max_events or 4 * g.size + 10):
-        cf = cholesky_dense(S + np.diag(np.where(closed, k, k_open)))
-        if cf is None:
+        dg = solver.solve(np.where(closed, k, k_open), fr)
+        if dg is None:
             return None
-        dg = sla.cho_solve(cf, fr, check_finite=False)
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where((closed & (dg > 0)) | (~closed & (dg < 0)), -g / dg, np.inf)
         t = np.maximum(t, 0.0)
@@ -44,8 +45,11 @@ def track_penalty(S, fr, k, k_open, c0, lo, hi, u_lo, watch, max_events=None):
     return None
 
 
-def track_lagrange(S, fr, lo, hi, g_lo, w_lo, closed_lo, watch, max_events=None):
-    """Onset (lambda, row) for the LCP: closed rows (g = 0, w >= 0), open rows (w = 0, g >= 0)."""
+def track_lagrange(S, fr, lo, hi, g_lo, w_lo, closed_lo, watch, max_events=None, solver=None):
+    """Onset (lambda, row) for the LCP: closed rows (g = 0, w >= 0), open rows (w = 0, g >= 0).
+
+    ``solver``: shifted.SubsetSolver of ``S`` (each event opens or closes one row)."""
+    solver = SubsetSolver(S) if solver is None else solver
     A = closed_lo.copy()
     g = np.where(A, 0.0, g_lo)
     w = np.where(A, w_lo, 0.0)
@@ -54,10 +58,10 @@ def track_lagrange(S, fr, lo, hi, g_lo, w_lo, closed_lo, watch, max_events=None)
         I = np.flatnonzero(~A)
         dg = np.zeros_like(g)
         if I.size:
-            cf = cholesky_dense(S[np.ix_(I, I)])
-            if cf is None:
+            dI = solver.solve(I, fr[I])
+            if dI is None:
                 return None
-            dg[I] = sla.cho_solve(cf, fr[I], check_finite=False)
+            dg[I] = dI
         dw = np.where(A, S @ dg - fr, 0.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where(A & (dw < 0), -w / dw, np.where(~A & (dg < 0), -g / dg, np.inf))

@@ -19,6 +19,7 @@ from .errors import ReferenceSolverError, no_equilibrium
 from .friction import FrictionSystem
 from .friction_path import solve_friction_path
 from .onset import track_lagrange, track_penalty
+from .shifted import ShiftedSolver, SubsetSolver
 from .solution import Solution  # noqa: F401  (re-exported: reference_solver.path.Solution)
 from .threads import with_blas_threads
 
@@ -28,12 +29,12 @@ ALGORITHMS = {"penalty": ("newton",), "lagrange": ("active-set", "gauss-seidel")
 
 def _solve_state(sysm: CondensedSystem, method: str, algorithm: str, coeffs: np.ndarray,
                  k: np.ndarray | None, k_open: np.ndarray | None, warm: np.ndarray | None,
-                 max_disp: float):
+                 max_disp: float, solver=None):
     p = sysm.problem
     f = sysm.fc @ coeffs
     c0 = p.contact_clearance
     if method == "penalty":
-        u, its = penalty_solve(sysm.Sc, f, k, k_open, c0, warm)
+        u, its = penalty_solve(sysm.Sc, f, k, k_open, c0, warm, solver=solver)
         if not np.all(np.isfinite(u)) or np.abs(u).max() > max_disp:
             raise Unbounded("penalty displacements beyond the sane limit")
         force = -np.where(c0 + u <= 0, k, k_open) * (c0 + u)
@@ -44,7 +45,7 @@ def _solve_state(sysm: CondensedSystem, method: str, algorithm: str, coeffs: np.
         if algorithm == "gauss-seidel":
             g, its = lcp_pgs(sysm.Sc, q, g0)
         else:
-            g, its = lcp_active_set(sysm.Sc, q, g0, max_gap=max_disp)
+            g, its = lcp_active_set(sysm.Sc, q, g0, max_gap=max_disp, solver=solver)
         if np.abs(g).max() > max_disp:
             raise Unbounded("gaps beyond the sane limit")
         u = g - c0
@@ -99,9 +100,11 @@ def solve_path(sysm: CondensedSystem, method: str = "penalty", k_factor: float =
     max_disp = p.max_displacement or p.length_scale()
     watch = np.ones(p.n_contacts, bool) if liftoff_surface is None else p.contact_surface == liftoff_surface
 
+    solver = ShiftedSolver(sysm.Sc) if method == "penalty" else SubsetSolver(sysm.Sc)  # shared along the path
+
     def run(coeffs, warm, step, lam):
         try:
-            return _solve_state(sysm, method, algorithm, coeffs, k, k_open, warm, max_disp)
+            return _solve_state(sysm, method, algorithm, coeffs, k, k_open, warm, max_disp, solver)
         except Unbounded:
             raise no_equilibrium(step, lam) from None
 
@@ -139,10 +142,10 @@ def solve_path(sysm: CondensedSystem, method: str = "penalty", k_factor: float =
             if onset == "bisection":
                 ev = None
             elif method == "penalty":
-                ev = track_penalty(sysm.Sc, fr, k, k_open, p.contact_clearance, lo, hi, lo_u, watch)
+                ev = track_penalty(sysm.Sc, fr, k, k_open, p.contact_clearance, lo, hi, lo_u, watch, solver=solver)
             else:
                 prev = rows[1 + j - 1]
-                ev = track_lagrange(sysm.Sc, fr, lo, hi, gap_of(prev[4]), prev[5], prev[6], watch)
+                ev = track_lagrange(sysm.Sc, fr, lo, hi, gap_of(prev[4]), prev[5], prev[6], watch, solver=solver)
             delta = min(1e-7, 0.1 * liftoff_tol) * lambda_max
             if ev is not None and lo < ev[0] - delta and ev[0] + delta < hi:
                 below = run(cb + (ev[0] - delta) * cr, lo_u, 2, ev[0] - delta)

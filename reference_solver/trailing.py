@@ -50,6 +50,36 @@ def node_order(K: BlockStiffness) -> np.ndarray:
             raise ReferenceSolverError(_SINGULAR) from None
 
 
+def _lower_permuted(holder: list, iperm: np.ndarray, idx_t) -> sp.csc_matrix:
+    """Lower triangle of P K P^T (K = ``holder.pop()``, released before the CSC conversion;
+    ``iperm``: old dof -> new) in CSC with sorted rows, written once.
+
+    The new dof numbers of the 3 row and 3 column components are gathered once each; each of the
+    9 block components writes its lower entries straight into the coordinate arrays (no parts to
+    concatenate), which CSC conversion then sorts.
+    """
+    K = holder.pop()
+    gi = [iperm[3 * K.rows.astype(idx_t) + i] for i in range(3)]
+    gj = [iperm[3 * K.cols.astype(idx_t) + j] for j in range(3)]
+    low = [gi[c // 3] >= gj[c % 3] for c in range(9)]
+    counts = [int(np.count_nonzero(m)) for m in low]
+    nnz = sum(counts)
+    rows, cols, vals = np.empty(nnz, idx_t), np.empty(nnz, idx_t), np.empty(nnz)
+    at = 0
+    for c in range(9):
+        sl = slice(at, at + counts[c])
+        np.compress(low[c], gi[c // 3], out=rows[sl])
+        np.compress(low[c], gj[c % 3], out=cols[sl])
+        np.compress(low[c], K.comp[c], out=vals[sl])
+        low[c] = None
+        at += counts[c]
+    n3 = 3 * K.n_nodes
+    del gi, gj, K
+    Kp = sp.csc_matrix((vals, (rows, cols)), shape=(n3, n3))
+    Kp.sort_indices()
+    return Kp
+
+
 def schur_blocks(holder: list, r: np.ndarray, F: np.ndarray) -> Schur:
     """Schur complement onto the dofs ``r`` of the block stiffness ``holder.pop()`` (released early).
 
@@ -71,25 +101,11 @@ def schur_blocks(holder: list, r: np.ndarray, F: np.ndarray) -> Schur:
     idx_t = np.int32 if n3 < 2**31 - 1 else np.int64
     iperm = np.empty(n3, idx_t)
     iperm[perm] = np.arange(n3, dtype=idx_t)
-    parts_r, parts_c, parts_v = [], [], []
-    for c in range(9):                                               # lower triangle of P K P^T
-        i, j = divmod(c, 3)
-        gi = iperm[3 * K.rows.astype(idx_t) + i]
-        gj = iperm[3 * K.cols.astype(idx_t) + j]
-        low = gi >= gj
-        parts_r.append(gi[low])
-        parts_c.append(gj[low])
-        parts_v.append(K.comp[c, low])
-        del gi, gj, low
+    holder.append(K)
     del K
-    rows, cols, vals = (np.concatenate(x) for x in (parts_r, parts_c, parts_v))
-    del parts_r, parts_c, parts_v
-    tail = np.arange(n3 - nr, n3, dtype=idx_t)
-    on_tail = np.flatnonzero((rows == cols) & (rows >= n3 - nr))
-    vals[on_tail] += d0[rows[on_tail] - (n3 - nr)]                   # K + D0 on r (ordered last)
-    Kp = sp.csc_matrix((vals, (rows, cols)), shape=(n3, n3))
-    del rows, cols, vals, tail
-    Kp.sort_indices()
+    Kp = _lower_permuted(holder, iperm, idx_t)                       # lower triangle of P K P^T
+    head = Kp.indptr[n3 - nr:n3]                                     # sorted rows: diagonal first
+    Kp.data[head] += d0[Kp.indices[head] - (n3 - nr)]                # K + D0 on r (ordered last)
     t1 = time.perf_counter()
     mark("split")
     with warnings.catch_warnings():
