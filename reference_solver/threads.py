@@ -15,9 +15,24 @@ import os
 from .errors import ReferenceSolverError
 
 try:
-    from threadpoolctl import threadpool_info, threadpool_limits
+    from threadpoolctl import ThreadpoolController, threadpool_info
 except ImportError:  # pragma: no cover - threadpoolctl is a dependency
-    threadpool_info = threadpool_limits = None
+    ThreadpoolController = threadpool_info = None
+
+
+@functools.lru_cache(maxsize=1)
+def _controller():
+    """One threadpoolctl controller over every BLAS this package calls (NumPy, SciPy, CHOLMOD's).
+
+    Built once: a fresh ``threadpool_limits`` scans the loaded libraries each time (about 1 ms, a dozen
+    times per load path). The libraries the solver uses are imported first so that the snapshot holds them.
+    """
+    import scipy.linalg  # noqa: F401  (SciPy's BLAS)
+    try:
+        import sksparse.cholmod  # noqa: F401  (CHOLMOD's BLAS)
+    except ImportError:
+        pass
+    return ThreadpoolController()
 
 
 def default_threads() -> int:
@@ -37,9 +52,9 @@ def blas_threads(threads: int | None):
     n = default_threads() if threads is None else threads
     if not (isinstance(n, int) and n >= 1):
         raise ReferenceSolverError(f"threads = {threads!r}: must be a positive integer")
-    if threadpool_limits is None:
+    if ThreadpoolController is None:
         return contextlib.nullcontext()
-    return threadpool_limits(limits=n, user_api="blas")
+    return _controller().limit(limits=n, user_api="blas")
 
 
 def blas_info() -> list[dict]:
