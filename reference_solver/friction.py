@@ -18,8 +18,9 @@ increment, ``g`` = clearance + x_normal the gap [m], > 0 open):
 - penalty (the paper's eq. 3, PGAP-like): p = -k g when closed, -k_open g open; t = proj(t_ref -
   k_t (s - s_ref)) on the disc |t| <= mu max(p, 0) (return mapping, radial);
 - Lagrange (exact): the Alart-Curnier equations p = max(0, p - rho g), t = proj(t - rho (s - s_ref))
-  solved by a semi-smooth Newton on the displacements alone (:mod:`.friction_ssn`), from the previous
-  increment, else from a penalty predictor; the augmented-Lagrangian multiplier updates below (each
+  solved by a semi-smooth Newton on the displacements alone (:mod:`.friction_ssn`), from the path's
+  estimate of the increment (secant of the last two), then from the previous increment, else from a
+  penalty predictor; the augmented-Lagrangian multiplier updates below (each
   inner problem the penalty law with the multipliers as pre-loads) are the last resort. At the
   solution g = 0 or p = 0 exactly, and s = s_ref (stick) or t = -mu p (s - s_ref) / |s - s_ref| (slip).
 Each inner problem freezes the slip threshold mu p (Tresca) so that it minimises a convex energy:
