@@ -312,6 +312,8 @@ def n2f_tangential_force(dat: Path, model) -> dict[float, dict[int, float]]:
     mesh = build_mesh(model)
     a_ccx = ccx_node_slave_areas(mesh)
     order = [(int(n), g.surface) for g in ccx_n2f_groups(mesh) for n in g.nodes]
+    ids = [n for n, _ in order]
+    area = dict(zip(ids, a_ccx[mesh_node_index(mesh, ids)].tolist()))     # deck node id -> A_ccx [m^2]
     u = scale(model.units)
     out: dict[float, dict[int, float]] = {}
     for b in _dat_blocks(Path(dat)):
@@ -324,6 +326,6 @@ def n2f_tangential_force(dat: Path, model) -> dict[float, dict[int, float]]:
             if k == len(order):
                 raise DeckbridgeError(f"{str(dat)!r}: contact row of node {node} out of the deck's slave order")
             if order[k][1] == "table":
-                got[node] = float(np.hypot(v[1], v[2]) / u.stress * a_ccx[node - 1])
+                got[node] = float(np.hypot(v[1], v[2]) / u.stress * area[node])
             k += 1
     return out
