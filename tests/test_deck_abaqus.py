@@ -101,7 +101,15 @@ def test_master_faces_are_the_table_plane_and_the_stop_cylinder(tmp_path):
     g = model.geometry
     assert r.min() < g.radius - g.thickness / 2 and r.max() > g.radius + g.thickness / 2  # overhangs the wall
     stop = corners("MASTER_STOP")
-    np.testing.assert_allclose(np.hypot(stop[..., 0], stop[..., 1]), 1.485, rtol=1e-12)  # inner stop radius
+    # faces centred on the skirt azimuths: corners at 1.485 / cos(pi / n_theta), every face plane 1.485 from
+    # the axis along its mid-azimuth (the stop slaves' radial), so each slave sees a radial normal
+    n = model.mesh.n_theta
+    np.testing.assert_allclose(np.hypot(stop[..., 0], stop[..., 1]), 1.485 / np.cos(np.pi / n), rtol=1e-12)
+    mid = stop.mean(axis=1)
+    e_r = mid[:, :2] / np.hypot(mid[:, 0], mid[:, 1])[:, None]
+    np.testing.assert_allclose(np.einsum("fkc,fc->fk", stop[..., :2], e_r), 1.485, rtol=1e-12)
+    th = np.degrees(np.arctan2(e_r[:, 1], e_r[:, 0])) % 360.0
+    assert set(np.round(th, 6) % 360.0) <= set(np.round(np.unique(mesh.stop.theta_deg), 6) % 360.0)
     h1 = g.height / 4
     assert stop[..., 2].min() == pytest.approx(-h1 / 2) and stop[..., 2].max() == pytest.approx(h1 / 2)
     # every slave node lies on its master: base nodes at z = 0 inside the ring, stop slaves at 1.485 + clearance

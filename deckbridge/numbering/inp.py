@@ -87,10 +87,10 @@ class Layout:
         return self.next_elem + self.mesh.table.nodes.size
 
 
-def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = (), centred_stop: bool = False) -> Layout:
+def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> Layout:
     """Number the deck: skirt, reference node, and the fixed master rings named in ``masters``
-    (``"table"``, ``"stop"``; the stop ring only when the model has a stop; ``centred_stop``: its faces
-    centred on the skirt's azimuths, see :func:`ring`)."""
+    (``"table"``, ``"stop"``; the stop ring only when the model has a stop, its faces centred on the
+    skirt's azimuths in every inp dialect, see :func:`ring`: a radial stop normal at every slave)."""
     g = model.geometry
     n_nodes, n_elems = mesh.n_nodes, mesh.hexes.shape[0]
     nt, nr, nz = mesh.n_theta, mesh.n_r, mesh.n_z
@@ -114,7 +114,7 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = (), cent
             radii, face = [r_stop - t, r_stop], FACE_OUTER
         else:
             radii, face = [r_stop, r_stop + t], FACE_INNER
-        stop_master = ring(radii, [-h1 / 2, h1 / 2], nt, next_node, next_elem, face, centred=centred_stop)
+        stop_master = ring(radii, [-h1 / 2, h1 / 2], nt, next_node, next_elem, face, centred=True)
         next_node += stop_master.node_ids.size
         next_elem += stop_master.elem_ids.size
     # element index e = (k * n_r + i) * n_theta + j  (k along z, i through the wall, j around)
@@ -149,7 +149,7 @@ def ccx_layout(model: Model, mesh: SkirtMesh, method: str) -> Layout:
     """Numbering of the CalculiX ``method`` deck ('penalty': GAPUNI gaps only, or table and stop rings for
     node-to-surface contact; 'mortar': table ring)."""
     key = "penalty_n2f" if method == "penalty" and ccx_penalty_is_n2f(model) else method
-    return layout(model, mesh, masters=CCX_MASTERS[key], centred_stop=True)   # a radial stop normal at every slave
+    return layout(model, mesh, masters=CCX_MASTERS[key])
 
 
 def ccx_node_slave_areas(mesh: SkirtMesh) -> np.ndarray:
