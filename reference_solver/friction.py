@@ -46,18 +46,15 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import scipy.linalg as sla
 
 from .condense import CondensedSystem, check_mechanism, condense
-from .contact import Unbounded
 from .errors import ReferenceSolverError
+from .friction_newton import newton
 from .friction_ssn import solve_lagrange_increment
 from .friction_state import GrossSlip, NotConverged, State  # noqa: F401  (re-exported)
 from .frames import complete_basis
-from .linalg import cholesky_dense
 from .problem import Problem
 
-WOODBURY = True           # Newton steps as low-rank updates of one inverse per (k, k_t) (False: Cholesky)
 ANDERSON = 5             # depth of the Anderson acceleration of the Lagrange multiplier updates (0: off)
 AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
 PREDICTOR_TOL = 1.0e-6    # relative settling of the Lagrange predictor's slip thresholds (a predictor only)
@@ -192,164 +189,6 @@ def condense_friction(p: Problem, **kw) -> FrictionSystem:
 def condense_problem(p: Problem, **kw):
     """:func:`condense_friction` for ``tangential='friction'``, else :func:`reference_solver.condense.condense`."""
     return condense_friction(p, **kw) if p.tangential == "friction" else condense(p, **kw)
-
-
-def _laws(x, sysf: FrictionSystem, k, k_open, kt, cap, p0, t0, s_ref):
-    """Contact forces at ``x`` for a given slip threshold ``cap`` (N) and the pieces of their derivative."""
-    pr = sysf.problem
-    g = pr.contact_clearance + x[:pr.n_contacts]
-    z = p0 - k * g
-    active = z >= 0                                           # closed (g <= 0 without pre-load)
-    p = np.where(active, z, -k_open * g)
-    dp = np.where(active, k, k_open)                          # -dp/dg
-    w = np.where(sysf.tmask, x[sysf.tdofs] - s_ref - t0 / kt[:, None], 0.0)   # t_trial = -kt w
-    norm = kt * np.linalg.norm(w, axis=1)
-    slip = norm > cap
-    nd = np.divide(w, np.linalg.norm(w, axis=1)[:, None], out=np.zeros_like(w), where=norm[:, None] > 0)
-    c = np.where(slip, cap, 0.0)                              # finite where used (cap may be inf)
-    t = np.where(slip[:, None], -c[:, None] * nd, -kt[:, None] * w)
-    energy_n = np.where(active, z * z / (2 * k), 0.5 * k_open * g * g)
-    energy_t = np.where(slip, c * norm / kt - c * c / (2 * kt), 0.5 * norm * norm / kt)
-    return p, dp, active, t, nd, norm, slip, (energy_n, energy_t)
-
-
-def _residual(sysf, f, x, p, t):
-    R = np.zeros_like(x)
-    R[:sysf.problem.n_contacts] += p
-    np.add.at(R, sysf.tdofs, t)
-    return sysf.S @ x - f - R
-
-
-def _blocks(kt, cap, nd, norm, slip, along=0.0, k_along=None, mask=None):
-    """(nf, 2, 2) tangential Hessian blocks; ``along`` > 0 adds along * kt n n' on slipping rows
-    (a stiffer, safe descent model)."""
-    c = np.where(slip, np.where(slip, cap, 0.0) * kt / np.where(norm > 0, norm, 1.0), kt)
-    blocks = c[:, None, None] * np.eye(2)
-    ka = along * (kt if k_along is None else k_along)
-    blocks[slip] -= (c[slip] - ka[slip])[:, None, None] * nd[slip, :, None] * nd[slip, None, :]
-    return blocks if mask is None else blocks * mask[:, :, None] * mask[:, None, :]
-
-
-def _hessian(sysf, dp, blocks):
-    nc = sysf.problem.n_contacts
-    H = sysf.S.copy()
-    H[np.arange(nc), np.arange(nc)] += dp
-    b = sysf.tdofs
-    np.add.at(H, (b[:, :, None], b[:, None, :]), blocks)
-    return H
-
-
-def _base_inverse(sysf, k, kt):
-    """Inverse of H0 = S + k on the normal dofs + kt on the tangential ones (every row closed, stuck)."""
-    key = (k.tobytes(), kt.tobytes())
-    if key not in sysf.cache:
-        if len(sysf.cache) > 3:
-            sysf.cache.clear()
-        m = sysf.tmask
-        H0 = _hessian(sysf, k, kt[:, None, None] * np.eye(2) * m[:, :, None] * m[:, None, :])
-        cf = cholesky_dense(H0)
-        sysf.cache[key] = None if cf is None else sla.cho_solve(cf, np.eye(H0.shape[0]), check_finite=False)
-    return sysf.cache[key]
-
-
-def _step(sysf, r, k, kt, dp, blocks):
-    """Newton step -H^-1 r as a low-rank (Woodbury) update of H0^-1: only open and slipping rows differ."""
-    H0inv = _base_inverse(sysf, k, kt)
-    nc, b = sysf.problem.n_contacts, sysf.tdofs
-    dev_n = dp - k
-    m = sysf.tmask
-    dev_t = blocks - kt[:, None, None] * np.eye(2) * m[:, :, None] * m[:, None, :]
-    rn = np.flatnonzero(dev_n != 0)
-    rt = np.flatnonzero(np.abs(dev_t).reshape(-1, 4).max(axis=1) > 0)
-    idx = np.unique(np.concatenate([rn, b[rt].ravel()]))
-    if H0inv is None or idx.size > 0.5 * r.size:
-        return None
-    pos = np.full(r.size, -1)
-    pos[idx] = np.arange(idx.size)
-    C = np.zeros((idx.size, idx.size))
-    C[pos[rn], pos[rn]] += dev_n[rn]
-    bt = pos[b[rt]]
-    np.add.at(C, (bt[:, :, None], bt[:, None, :]), dev_t[rt])
-    y = H0inv @ r
-    if idx.size == 0:
-        return -y
-    try:
-        z = np.linalg.solve(np.eye(idx.size) + C @ H0inv[np.ix_(idx, idx)], C @ y[idx])
-    except np.linalg.LinAlgError:
-        return None
-    return -(y - H0inv[:, idx] @ z)
-
-
-def newton(sysf: FrictionSystem, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, tol=1e-10,
-           k_along=None):
-    """Newton with an energy line search for a fixed slip threshold ``cap`` (Tresca); returns State.
-
-    The energy 1/2 x'Sx - f'x + normal spring + tangential (quadratic, then linear beyond ``cap``)
-    is convex, so the iterates descend; when it has no minimum (the load slides or lifts the body)
-    they run beyond ``max_disp``: :class:`GrossSlip` when every closed friction row slips, else
-    :class:`Unbounded`.
-    """
-    x = np.array(x0, float)
-    fscale = np.abs(f).max() + 1e-300
-    def change(v, d, new, old):                     # E(v + d) - E(v), without cancellation of E itself
-        return (d @ (sysf.S @ v - f) + 0.5 * d @ (sysf.S @ d)
-                + np.sum(new[-1][0] - old[-1][0]) + np.sum(new[-1][1] - old[-1][1]))
-    out = _laws(x, sysf, k, k_open, kt, cap, p0, t0, s_ref)
-    allslip = 0
-    for it in range(1, maxit + 1):
-        p, dp, active, t, nd, norm, slip, _ = out
-        r = _residual(sysf, f, x, p, t)
-        if np.abs(r).max() <= tol * fscale and it > 1:
-            return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=it - 1)
-        rmax = np.abs(r).max()
-        for along in (0.0, 1.0):                             # exact Hessian, then the safe model
-            blocks = _blocks(kt, cap, nd, norm, slip, along, k_along, sysf.tmask)
-            with np.errstate(all="ignore"):
-                dx = _step(sysf, r, k, kt, dp, blocks) if WOODBURY else None
-                if dx is None or not np.all(np.isfinite(dx)):
-                    H = _hessian(sysf, dp, blocks)
-                    cf = cholesky_dense(H)
-                    dx = (-sla.cho_solve(cf, r, check_finite=False) if cf is not None
-                          else -np.linalg.lstsq(H, r, rcond=None)[0])
-            if along == 0.0 and (not np.all(np.isfinite(dx)) or np.abs(x + dx).max() > max_disp):
-                continue                                     # no minimum along the exact model
-            slope, step = r @ dx, 1.0
-            while step > 1e-3:
-                new = _laws(x + step * dx, sysf, k, k_open, kt, cap, p0, t0, s_ref)
-                de = change(x, step * dx, new, out)
-                if de <= 1e-4 * step * slope or (            # Armijo; at round-off, the residual decides
-                        de <= 1e-14 * (abs(f @ x) + 1e-300)
-                        and np.abs(_residual(sysf, f, x + step * dx, new[0], new[3])).max() <= 0.5 * rmax):
-                    break
-                step *= 0.5
-            if step > 1e-3:
-                break
-        if np.abs(r).max() <= 1e3 * tol * fscale and step <= 1e-3:      # round-off floor
-            return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=it)
-        if not np.all(np.isfinite(dx)) or np.abs(x + step * dx).max() > max_disp:
-            _unbounded(sysf, active, slip)
-        if step <= 1e-3:                                     # no descent: sliding on, or stuck in a kink
-            _unbounded(sysf, active, slip, strict=True)
-        x, out = x + step * dx, new
-        fa = active[sysf.rows]
-        allslip = allslip + 1 if (fa.any() and np.all(slip[fa])) else 0
-        if allslip > 25:                                     # sliding on: no minimum in sight
-            _unbounded(sysf, active, slip)
-    p, dp, active, t, nd, norm, slip, _ = out
-    r = _residual(sysf, f, x, p, t)
-    if np.abs(r).max() <= 1e3 * tol * fscale:                   # round-off floor reached
-        return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=maxit)
-    _unbounded(sysf, active, slip, strict=True)
-    raise NotConverged(f"friction Newton did not converge in {maxit} iterations")
-
-
-def _unbounded(sysf, active, slip, strict=False):
-    fr_active = active[sysf.rows]
-    if fr_active.any() and np.all(slip[fr_active]):
-        raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
-    if strict:
-        raise NotConverged("friction Newton did not converge")
-    raise Unbounded("no bounded equilibrium")
 
 
 def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: State, k: np.ndarray,
