@@ -5,11 +5,10 @@ the Lagrange method (:func:`reference_solver.friction.solve_increment`). Contact
 :mod:`reference_solver.friction`: x the retained displacements [m], p >= 0 the normal forces [N], t (nf, 2)
 the tangential forces [N] opposing the slip. Newton steps are low-rank (Woodbury) updates of one inverse
 of S + k (+ k_t) per (k, k_t), cached on the system; an energy line search keeps the descent.
+``sysf`` is a :class:`reference_solver.friction.FrictionSystem` (not imported: no cycle).
 """
 
 from __future__ import annotations
-
-from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg as sla
@@ -18,13 +17,10 @@ from .contact import Unbounded
 from .friction_state import GrossSlip, NotConverged, State
 from .linalg import cholesky_dense
 
-if TYPE_CHECKING:
-    from .friction import FrictionSystem
-
 WOODBURY = True           # Newton steps as low-rank updates of one inverse per (k, k_t) (False: Cholesky)
 
 
-def _laws(x, sysf: FrictionSystem, k, k_open, kt, cap, p0, t0, s_ref):
+def _laws(x, sysf, k, k_open, kt, cap, p0, t0, s_ref):
     """Contact forces at ``x`` for a given slip threshold ``cap`` (N) and the pieces of their derivative."""
     pr = sysf.problem
     g = pr.contact_clearance + x[:pr.n_contacts]
@@ -110,7 +106,7 @@ def _step(sysf, r, k, kt, dp, blocks):
     return -(y - H0inv[:, idx] @ z)
 
 
-def newton(sysf: FrictionSystem, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, tol=1e-10,
+def newton(sysf, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, tol=1e-10,
            k_along=None):
     """Newton with an energy line search for a fixed slip threshold ``cap`` (Tresca); returns State.
 
