@@ -19,7 +19,8 @@ from deckbridge.readers.ccx_files import _dat_blocks
 from deckbridge.render import render_all
 from deckbridge.solve import condense_model, solve_system
 from deckbridge.tangent_springs import follow_springs
-from reference_solver.friction import State, _laws, _residual, newton, solve_increment
+from reference_solver.friction import State, solve_increment
+from reference_solver.friction_newton import _laws, _residual, newton
 
 MODEL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.stop.side=none",
          "contact.friction=0.1", "contact.tangential=friction", "steps.lambda_max=1.1", "steps.increments=11"]
