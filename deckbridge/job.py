@@ -99,6 +99,10 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
             if ex.get("open_tension_ratio", 0.0) > 0.01:
                 echo(f"  warning: lambda = {pt.load_factor:.4g}: open gaps carry tension up to "
                      f"{ex['max_open_sigma_n_pa'] / 1e6:.3g} MPa ({ex['open_tension_ratio']:.1%} of the peak; kept)")
+            if ex.get("free_penetration_warn"):
+                echo(f"  warning: lambda = {pt.load_factor:.4g}: table node(s) {ex['free_penetration_nodes']} "
+                     f"penetrate up to {ex['free_penetration_m'] * 1e3:.3g} mm with no contact force "
+                     "(the solver's contact search missed them?)")
     paths = write_report(result, out, model=model)
     report = out / "report.html"
     echo(f"report: {report} ({time.perf_counter() - t0:.1f} s in all)")

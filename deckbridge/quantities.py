@@ -26,6 +26,8 @@ from .azimuth import arc_weights, periodic_interp, snap_deg
 
 RESIDUAL_WARN = 0.01          # equilibrium residual warned above this (relative)
 TENSION_WARN = 0.01           # open-gap tension warned above this fraction of the peak compression
+PENETRATION_WARN = 0.1        # force-free penetration warned above this fraction of a loaded node's largest
+PENETRATION_FLOOR = 1e-6      # ... and above this fraction of the largest node radius (round-off, mortar edges)
 
 
 @dataclass(frozen=True)
@@ -55,6 +57,11 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("open_tension_ratio", "1", "none",
              "largest sigma_N > 0 of an open node / |peak compression| (penalty open-gap stiffness)"),
     Quantity("lifted_arc_deg", "deg", "arc weights", "arc of azimuths whose every table node is open"),
+    Quantity("free_penetration_m", "m", "none (one node)",
+             "largest penetration -gap of a table node that carries no contact force (force_n <= 0): a penalty "
+             "node carries k x penetration and a Lagrange node has none, so a value here is an output that "
+             "contradicts its own contact law (e.g. a node the solver's contact search missed); warned above "
+             "10 % of the largest penetration of a loaded node and above 1e-6 of the largest node radius"),
     Quantity("tau_wall_pa", "Pa", "area (tributary areas of the through-wall nodes)",
              "tangential (friction) traction through the wall at one azimuth = Sum |F_t| / Sum area of its "
              "table nodes, F_t the table's tangential force on the node (friction.csv)"),
@@ -153,6 +160,23 @@ def open_tension(rows: pd.DataFrame) -> dict:
     top = max(top, 0.0)
     peak = abs(float(min(s.min(), 0.0))) or 1.0
     return {"max_open_sigma_n_pa": top, "open_tension_ratio": top / peak, "warn": top / peak > TENSION_WARN}
+
+
+def free_penetration(rows: pd.DataFrame) -> dict:
+    """Force-free penetration of one state: {'free_penetration_m', 'free_penetration_nodes' (table node ids,
+    sorted), 'free_penetration_warn'} (definition: ``free_penetration_m`` in :data:`DEFINITIONS`)."""
+    r = table_rows(rows)
+    gap, force = r["gap_m"].to_numpy(float), r["force_n"].to_numpy(float)
+    ok = np.isfinite(gap) & np.isfinite(force)
+    pen = np.where(ok, -gap, 0.0)
+    free = ok & (force <= 0.0) & (pen > 0.0)
+    loaded = ok & (force > 0.0)
+    worst = float(pen[free].max()) if free.any() else 0.0
+    floor = PENETRATION_FLOOR * float(np.nanmax(np.abs(r["r"].to_numpy(float)), initial=0.0))
+    limit = max(PENETRATION_WARN * (float(pen[loaded].max()) if loaded.any() else 0.0), floor)
+    over = free & (pen > limit)
+    return {"free_penetration_m": worst, "free_penetration_nodes": sorted(int(n) for n in r["node"].to_numpy()[over]),
+            "free_penetration_warn": bool(over.any())}
 
 
 def lifted_arc_deg(rows: pd.DataFrame) -> float:

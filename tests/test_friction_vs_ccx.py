@@ -24,6 +24,7 @@ import shutil
 import numpy as np
 import pytest
 
+from deckbridge import quantities as Q
 from deckbridge.dialects import DIALECTS
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
@@ -49,7 +50,7 @@ def test_penalty_friction_matches_ccx_node_to_surface_friction_past_liftoff(tmp_
     calculix.run_module().run(deck, timeout_s=300)
 
     mesh, system = condense_model(model, build_mesh(model))
-    _, summary, sol = solve_system(model, mesh, system, "penalty", recover=False)
+    ref_table, summary, sol = solve_system(model, mesh, system, "penalty", recover=False)
     p = system.problem
     tab = np.flatnonzero(p.contact_surface == "table")
     nodes = p.contact_nodes[tab] + 1
@@ -76,6 +77,10 @@ def test_penalty_friction_matches_ccx_node_to_surface_friction_past_liftoff(tmp_
         else:
             worst.append(row)
     assert all(s <= 0.03 and t <= 0.05 for _, s, t, _ in worst), worst
+    # the force-free penetration check (deckbridge.quantities) flags ccx at the miss and nowhere else, and
+    # never the reference (whose penalty rows carry k x penetration)
+    flags = {round(float(lam), 6): Q.free_penetration(g) for lam, g in ccx[ccx.step == 2].groupby("load_factor")}
+    assert [lam for lam, f in flags.items() if f["free_penetration_warn"]] == [SEARCH_MISS]
     assert any(lam > SEARCH_MISS for lam, *_ in worst)                     # agreement again past the miss
 
     # lambda = 1.0: ccx's contact search leaves a penetrating node without a contact element
@@ -88,6 +93,10 @@ def test_penalty_friction_matches_ccx_node_to_surface_friction_past_liftoff(tmp_
     np.testing.assert_allclose(f_ccx[has], k[has] * pen[has], rtol=1e-3)  # elements present: ccx's law holds
     dropped = ~has & (pen > 0)
     assert dropped.sum() == 1 and pen[dropped][0] > 1e-3                   # penetrates > 1 mm, no force
+    fp = flags[SEARCH_MISS]
+    assert fp["free_penetration_nodes"] == [int(nodes[dropped][0])]
+    assert fp["free_penetration_m"] == pytest.approx(pen[dropped][0], rel=1e-12)
+    assert not any(Q.free_penetration(g)["free_penetration_warn"] for _, g in ref_table.groupby("load_factor"))
     th, r = mesh.table.theta_deg, mesh.table.r                             # table rows in the order of tab
     assert np.array_equal(mesh.table.nodes, p.contact_nodes[tab])
     mirror = np.array([np.flatnonzero((np.abs((th + th[j] + 180) % 360 - 180) < 1e-6) & np.isclose(r, r[j]))[0]

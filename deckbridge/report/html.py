@@ -134,6 +134,9 @@ def source_rows(pt, labels) -> list[list[str]]:
             checks.append(("WARNING " if ex.get("warn") else "") + f"σzz equilibrium residual {ex['szz_resultant_residual']:.2%}")
         if ex.get("open_tension_ratio", 0.0) > Q.TENSION_WARN:
             checks.append(f"WARNING open-gap tension {ex['open_tension_ratio']:.1%} of the peak (kept, not clipped)")
+        if ex.get("free_penetration_warn"):
+            checks.append(f"WARNING node(s) {ex['free_penetration_nodes']} penetrate the table up to "
+                          f"{ex['free_penetration_m'] * 1e3:.3g} mm with no contact force (contact search miss?)")
         rows.append([lab, zones_text(pt.zones[lab]), mpa(pt.peaks[lab][0]), theta_text(pt.peaks[lab][1]),
                      mpa(None if node is None else node[0]), "–" if node is None else theta_text(node[1]),
                      fmt(ex.get("lifted_arc_deg"), ".1f"), "; ".join(checks) or "–"])
