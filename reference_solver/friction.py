@@ -51,7 +51,7 @@ from .condense import CondensedSystem, check_mechanism, condense
 from .errors import ReferenceSolverError
 from .friction_newton import newton
 from .friction_ssn import solve_lagrange_increment
-from .friction_state import GrossSlip, NotConverged, State  # noqa: F401  (re-exported)
+from .friction_state import GrossSlip, NotConverged, Runaway, State  # noqa: F401  (re-exported)
 from .frames import complete_basis
 from .problem import Problem
 
@@ -95,11 +95,6 @@ class FrictionSystem:
             nc = self.problem.n_contacts
             m = m | ((self.tdofs < nc) & ~np.asarray(active, bool)[np.minimum(self.tdofs, nc - 1)])
         return m
-
-    @property
-    def corners(self) -> np.ndarray:
-        """(nf,) friction rows with an axis that is another contact row's normal (a base node on the stop)."""
-        return np.any(self.tdofs < self.problem.n_contacts, axis=1)
 
     def with_corner(self, corner: str) -> "FrictionSystem":
         """This system under the corner rule ``corner`` (shares S and the condensation; one view per rule)."""
@@ -228,7 +223,7 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         except NotConverged as exc:
             if quick:
                 raise                                  # the caller cuts the increment back first
-            runaway = getattr(exc, "runaway", False)   # the augmented Lagrangian below, the last resort
+            runaway = isinstance(exc, Runaway)         # the augmented Lagrangian below, the last resort
     else:
         runaway = False
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
@@ -242,7 +237,8 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         try:
             st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
         except NotConverged as exc:
-            exc.runaway = runaway                      # both ran away, not all slipping (the path decides)
+            if runaway:                                # both ran away, not all slipping (the path decides)
+                raise Runaway(str(exc)) from None
             raise
         its += st.iterations
         p = np.where(st.active, st.p, 0.0)

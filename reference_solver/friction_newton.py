@@ -81,7 +81,7 @@ def _base_inverse(sysf, k, kt):
 def _step(sysf, r, k, kt, dp, blocks):
     """Newton step -H^-1 r as a low-rank (Woodbury) update of H0^-1: only open and slipping rows differ."""
     H0inv = _base_inverse(sysf, k, kt)
-    nc, b = sysf.problem.n_contacts, sysf.tdofs
+    b = sysf.tdofs
     dev_n = dp - k
     m = sysf.tmask
     dev_t = blocks - kt[:, None, None] * np.eye(2) * m[:, :, None] * m[:, None, :]

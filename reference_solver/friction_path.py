@@ -20,7 +20,7 @@ import numpy as np
 
 from .contact import Unbounded
 from .errors import ReferenceSolverError, no_equilibrium
-from .friction import CORNER_RULE, FrictionSystem, GrossSlip, NotConverged, State, solve_increment
+from .friction import CORNER_RULE, FrictionSystem, GrossSlip, NotConverged, Runaway, State, solve_increment
 from .solution import Solution
 
 QUICK_DEPTH = 2           # Lagrange: cutbacks tried with the direct Newton alone before its fallbacks
@@ -152,7 +152,7 @@ def solve_friction_path(sysf: FrictionSystem, method: str = "penalty", k_factor:
             except (GrossSlip, NotConverged) as exc:
                 why = exc
                 break
-        if isinstance(why, NotConverged) and getattr(why, "runaway", False):
+        if isinstance(why, Runaway):
             raise no_equilibrium(2, b) from None             # no bounded equilibrium past a: tipping over
         if isinstance(why, NotConverged):
             raise NotConverged(f"step 2, load factor {b:.6g}: the friction iterations do not converge "

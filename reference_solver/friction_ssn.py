@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from .contact import Unbounded
-from .friction_state import GrossSlip, NotConverged, State
+from .friction_state import GrossSlip, NotConverged, Runaway, State
 
 PREDICTOR = 10.0         # the fallback predictor's penalty stiffness, times diag(S) [-]
 LINESEARCH = 0           # full (active-set) Newton steps: a line search on |C|^2 stalls at the kinks
@@ -45,14 +45,15 @@ WRONG_WAY_STICK = True   # iterates: a closed row slipping along its own force i
                          # (False: the plain iteration alone, as before issue 14's speed work)
 
 
-def _equations(x, S, f, nc, clear, rho_n, rho_t, fr, td, m, mu, s_ref, qfix=None, sysf=None, wrong_way_stick=True):
-    """Residual C (nr,), the known-dof mask, and the pieces of the Jacobian at ``x``."""
+def _equations(x, sysf, f, rho_n, rho_t, mu, s_ref, qfix=None, wrong_way_stick=True):
+    """Residual C (nr,), the known-dof mask, and the pieces of the Jacobian at ``x``; the friction axes ``m``
+    are the corner rule's in this contact state (:meth:`FrictionSystem.axes`)."""
+    S, nc, clear, fr, td = sysf.S, sysf.problem.n_contacts, sysf.problem.contact_clearance, sysf.rows, sysf.tdofs
     lam = S @ x - f
     g = clear + x[:nc]
     sig = lam[:nc] - rho_n * g
     act = sig > 0
-    if m is None:                                             # the corner rule's axes in this contact state
-        m = sysf.axes(act)
+    m = sysf.axes(act)
     C = lam.copy()
     C[:nc] = np.where(act, rho_n * g, lam[:nc])
     t = lam[td] * m                                           # (nf, 2) tangential forces, free axes only
@@ -101,9 +102,8 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     try:
         st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x, wrong_way_stick=False)
     except (GrossSlip, Unbounded) as exc:
-        err = NotConverged(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})")
-        err.runaway = isinstance(exc, Unbounded)          # not gross slip: no bounded equilibrium in sight
-        raise err from None
+        kind = Runaway if isinstance(exc, Unbounded) else NotConverged   # not gross slip: no bounded equilibrium
+        raise kind(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})") from None
     st.iterations += pred.iterations
     return st
 
@@ -120,12 +120,11 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     fr, td = sysf.rows, sysf.tdofs
     d = np.diag(S)
     rho_n, rho_t = rho * RHO_N * d[:nc], rho * RHO_T * d[td].mean(axis=1)[:, None]
-    clear = pr.contact_clearance
     s_ref = prev.x[td]
     nf = fr.size
     fi = np.repeat(np.arange(nf), 2).reshape(nf, 2)           # friction row of each tangential axis
     scale = max(np.abs(f).max(), 1e-300)
-    args = (S, f, nc, clear, rho_n, rho_t, fr, td, None, mu, s_ref, qfix, sysf, wrong_way_stick)   # axes per state
+    args = (sysf, f, rho_n, rho_t, mu, s_ref, qfix, wrong_way_stick)
     x = np.array(prev.x if x0 is None else x0, float)
     ev = _equations(x, *args)
     allslip = 0

@@ -17,6 +17,11 @@ class NotConverged(ReferenceSolverError):
     """An increment's iterations did not settle (the path cuts the increment back)."""
 
 
+class Runaway(NotConverged):
+    """Not settled because the iterates run away with rows still sticking: no bounded equilibrium in sight
+    (not gross slip); where the path's bisection closes in on it, the load tips the body over."""
+
+
 @dataclass
 class State:
     """A converged (or trial) contact state: retained displacements and contact forces."""

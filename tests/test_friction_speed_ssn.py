@@ -59,8 +59,7 @@ def _residual(st, sysf, f, prev, mu):
     """Largest |C| of the Alart-Curnier equations at the state (rho = diag S), relative to the load [-]."""
     S, nc, td = sysf.S, sysf.problem.n_contacts, sysf.tdofs
     d = np.diag(S)
-    C = fssn._equations(st.x, S, f, nc, sysf.problem.contact_clearance, d[:nc], d[td].mean(axis=1)[:, None],
-                        sysf.rows, td, None, mu, prev.x[td], None, sysf, False)[0]
+    C = fssn._equations(st.x, sysf, f, d[:nc], d[td].mean(axis=1)[:, None], mu, prev.x[td], None, False)[0]
     return np.abs(C).max() / np.abs(f).max()
 
 
