@@ -315,10 +315,11 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
                  {**timings, "schur_s": t3 - t2, "trailing_read": how})
 
 
-def cholesky_dense(A: np.ndarray):
-    """Dense Cholesky factor (scipy cho_factor) or None when A is not positive definite."""
+def cholesky_dense(A: np.ndarray, overwrite: bool = False):
+    """Dense Cholesky factor (scipy cho_factor, lower) or None when A is not positive definite;
+    ``overwrite``: the factor may be written over ``A`` (a fresh array of the caller's)."""
     try:
-        return sla.cho_factor(A, lower=True, check_finite=False)
+        return sla.cho_factor(A, lower=True, overwrite_a=overwrite, check_finite=False)
     except (np.linalg.LinAlgError, sla.LinAlgError):
         return None
 

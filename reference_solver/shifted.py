@@ -44,7 +44,7 @@ class ShiftedSolver:
         COUNTS["factorisations"] += 1
         A = self.S.copy()
         A[np.diag_indices_from(A)] += D
-        cf = _cholesky_inplace(A)
+        cf = cholesky_dense(A, overwrite=True)
         self.cf, self.D0, self.cols = cf, (None if cf is None else D.copy()), {}
         return cf is not None
 
@@ -92,15 +92,6 @@ class ShiftedSolver:
         if not self._refactor(D):
             return None
         return sla.cho_solve(self.cf, b, check_finite=False)
-
-
-def _cholesky_inplace(A: np.ndarray):
-    """Lower Cholesky factor of the fresh array ``A`` written over it (cho_factor form), or None when
-    A is not positive definite."""
-    try:
-        return sla.cho_factor(A, lower=True, overwrite_a=True, check_finite=False)
-    except (np.linalg.LinAlgError, sla.LinAlgError):
-        return None
 
 
 def _capacitance_solve(M: np.ndarray, up: np.ndarray, r: np.ndarray) -> np.ndarray | None:
@@ -161,7 +152,7 @@ class SubsetSolver:
     def _refactor(self, I: np.ndarray) -> bool:
         self.factorisations += 1
         COUNTS["factorisations"] += 1
-        self.cf = _cholesky_inplace(self.S[np.ix_(I, I)]) if I.size else None
+        self.cf = cholesky_dense(self.S[np.ix_(I, I)], overwrite=True) if I.size else None
         self.idx0, self.cols = (I.copy() if self.cf is not None else None), {}
         self.pos0[:] = -1
         if self.cf is not None:
