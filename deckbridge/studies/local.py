@@ -41,10 +41,10 @@ _INHERITED = {}                      # in a worker: the condensed system it solv
 def _worker_init() -> None:
     """Every worker: one BLAS / OpenMP thread (one worker per core); Ctrl-C left to the client (which
     stops the workers), SIGTERM ends a worker plainly (not the client's handler, inherited by fork)."""
-    from threadpoolctl import threadpool_limits
+    from .tasks import one_blas_thread
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    _INHERITED["blas"] = threadpool_limits(limits=1)
+    _INHERITED["blas"] = one_blas_thread()
 
 
 def _adopt(cond) -> None:

@@ -35,9 +35,14 @@ def csv_text(frame: pd.DataFrame) -> str:
     return conform(frame).to_csv(index=False, lineterminator="\n")
 
 
+def _read_exact(source) -> pd.DataFrame:
+    """A CSV the store wrote, read back with every float exactly as written (``source``: path or stream)."""
+    return pd.read_csv(source, float_precision="round_trip")
+
+
 def table_of(source) -> pd.DataFrame:
     """A stored case table read back (``source``: a path or a text stream), exactly as computed."""
-    return conform(pd.read_csv(source, float_precision="round_trip"))
+    return conform(_read_exact(source))
 
 
 def _sha256(path: Path) -> str:
@@ -137,7 +142,7 @@ class CaseStore:
         """The stored contact table of ``case`` (exactly as computed)."""
         path = self.table_path(case)
         try:
-            df = pd.read_csv(path, float_precision="round_trip")
+            df = _read_exact(path)
         except (OSError, ValueError) as exc:
             raise DeckbridgeError(f"{path}: cannot read the stored case table ({exc})") from None
         return conform(df)
@@ -148,7 +153,7 @@ class CaseStore:
         path = self.wall_path(case)
         if not path.is_file():
             return None
-        return pd.read_csv(path, float_precision="round_trip")
+        return _read_exact(path)
 
     def log(self) -> list[dict]:
         """Every line of the computation log, oldest first."""
