@@ -19,10 +19,10 @@ into stop normal and table friction follows the method's corner rule and is not 
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
+
+from .readers._files import beside
 
 FRICTION_CSV = "friction.csv"
 COLUMNS = ["step", "increment", "load_factor", "node", "surface", "theta_deg", "wall", "fn_x_n", "fn_y_n", "fn_z_n",
@@ -61,11 +61,8 @@ def friction_table(contact: pd.DataFrame, sol, mu: float, normals: np.ndarray) -
 
 def read_friction(folder) -> pd.DataFrame | None:
     """friction.csv of a reference folder (or beside a contact.csv), None when absent or not one."""
-    if folder is None:
-        return None
-    p = Path(str(folder))
-    p = p / FRICTION_CSV if p.is_dir() else p.parent / FRICTION_CSV
-    if not p.is_file():
+    p = beside(folder, FRICTION_CSV)
+    if p is None:
         return None
     try:
         df = pd.read_csv(p)

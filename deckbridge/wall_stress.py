@@ -24,6 +24,7 @@ from .azimuth import snap_deg
 from .errors import DeckbridgeError
 from .numbering.skirt import bottom_row_index
 from .outdir import write_text
+from .readers._files import beside
 
 WALL_CSV = "wall_stress.csv"
 WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa", "szz_outer_pa",
@@ -66,11 +67,8 @@ def write_wall(folder: Path, table: pd.DataFrame) -> Path:
 
 def read_wall(folder) -> pd.DataFrame | None:
     """wall_stress.csv of a reference folder, None when absent."""
-    if folder is None:
-        return None
-    p = Path(str(folder))
-    p = p / WALL_CSV if p.is_dir() else p.parent / WALL_CSV
-    if not p.is_file():
+    p = beside(folder, WALL_CSV)
+    if p is None:
         return None
     df = pd.read_csv(p)
     return df if set(WALL_COLUMNS) <= set(df.columns) else None

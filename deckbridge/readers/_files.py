@@ -15,6 +15,16 @@ def read_text(path: str | Path) -> str:
         raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
 
 
+def beside(origin, name: str) -> Path | None:
+    """The file ``name`` in the folder ``origin``, or beside the file ``origin`` (a result folder's
+    companion tables); None when ``origin`` is None or there is no such file."""
+    if origin is None:
+        return None
+    p = Path(str(origin))
+    p = p / name if p.is_dir() else p.parent / name
+    return p if p.is_file() else None
+
+
 INP_UNITS_TAG = "** deckbridge-units:"
 
 
