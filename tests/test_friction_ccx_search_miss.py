@@ -12,15 +12,14 @@ import shutil
 import numpy as np
 import pytest
 
-from deckbridge.dialects import DIALECTS
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers.ccx_files import _dat_blocks
-from deckbridge.render import render_all
 from deckbridge.solve import condense_model, solve_system
 from deckbridge.tangent_springs import follow_springs
 from reference_solver.friction import State, solve_increment
 from reference_solver.friction_newton import _laws, _residual, newton
+from ccx_job import ccx_penalty_job
 
 MODEL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.stop.side=none",
          "contact.friction=0.1", "contact.tangential=friction", "steps.lambda_max=1.1", "steps.increments=11"]
@@ -38,11 +37,7 @@ def _coulomb(sysf, k, k_open, kt, mu, prev, f, x):
 @pytest.mark.skipif(shutil.which("ccx") is None, reason="ccx (CalculiX) not installed")
 def test_ccx_state_at_the_search_miss_is_no_solution_of_the_reference_problem(tmp_path):
     model = load(None, MODEL)
-    render_all(model, tmp_path / "decks", names=["calculix"])
-    deck = tmp_path / "ccx" / f"{model.name}_ccx_penalty.inp"
-    deck.parent.mkdir()
-    shutil.copyfile(tmp_path / "decks" / deck.name, deck)
-    DIALECTS["calculix"].run_module().run(deck, timeout_s=300)
+    deck = ccx_penalty_job(model, tmp_path)
 
     mesh, sysf = condense_model(model, build_mesh(model))
     _, _, sol = solve_system(model, mesh, sysf, "penalty", recover=False)

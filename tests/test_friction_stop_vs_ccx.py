@@ -18,13 +18,12 @@ import shutil
 import numpy as np
 import pytest
 
-from deckbridge.dialects import DIALECTS
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
 from deckbridge.readers.calculix import n2f_tangential_force
-from deckbridge.render import render_all
 from deckbridge.solve import condense_model, solve_system
+from ccx_job import ccx_penalty_job
 
 MODEL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.stop.side=inner",
          "contact.friction=0.3", "contact.tangential=friction", "steps.lambda_max=1.0", "steps.increments=10"]
@@ -33,13 +32,9 @@ MODEL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.stop.side=inner
 @pytest.mark.skipif(shutil.which("ccx") is None, reason="ccx (CalculiX) not installed")
 def test_penalty_friction_with_the_stop_matches_ccx_past_liftoff(tmp_path):
     model = load(None, MODEL)
-    render_all(model, tmp_path / "decks", names=["calculix"])
-    deck = tmp_path / "ccx" / f"{model.name}_ccx_penalty.inp"
-    deck.parent.mkdir()
-    shutil.copyfile(tmp_path / "decks" / deck.name, deck)
+    deck = ccx_penalty_job(model, tmp_path)
     text = deck.read_text()
     assert "*FRICTION" in text and "MASTER_STOP" in text.upper() and "TYPE=SPRING1" not in text
-    DIALECTS["calculix"].run_module().run(deck, timeout_s=300)
 
     mesh, system = condense_model(model, build_mesh(model))
     _, summary, sol = solve_system(model, mesh, system, "penalty", recover=False)

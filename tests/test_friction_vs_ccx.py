@@ -25,13 +25,12 @@ import numpy as np
 import pytest
 
 from deckbridge import quantities as Q
-from deckbridge.dialects import DIALECTS
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
 from deckbridge.readers.calculix import n2f_tangential_force
-from deckbridge.render import render_all
 from deckbridge.solve import condense_model, solve_system
+from ccx_job import ccx_penalty_job
 
 MODEL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.stop.side=none",
          "contact.friction=0.1", "contact.tangential=friction", "steps.lambda_max=1.1", "steps.increments=11"]
@@ -41,13 +40,8 @@ SEARCH_MISS = 1.0      # the load factor at which ccx's contact search drops a p
 @pytest.mark.skipif(shutil.which("ccx") is None, reason="ccx (CalculiX) not installed")
 def test_penalty_friction_matches_ccx_node_to_surface_friction_past_liftoff(tmp_path):
     model = load(None, MODEL)
-    calculix = DIALECTS["calculix"]
-    render_all(model, tmp_path / "decks", names=["calculix"])
-    deck = tmp_path / "ccx" / f"{model.name}_ccx_penalty.inp"
-    deck.parent.mkdir()
-    shutil.copyfile(tmp_path / "decks" / deck.name, deck)
+    deck = ccx_penalty_job(model, tmp_path)
     assert "*FRICTION" in deck.read_text() and "TYPE=SPRING1" not in deck.read_text()
-    calculix.run_module().run(deck, timeout_s=300)
 
     mesh, system = condense_model(model, build_mesh(model))
     ref_table, summary, sol = solve_system(model, mesh, system, "penalty", recover=False)

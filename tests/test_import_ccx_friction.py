@@ -5,24 +5,20 @@ to its node's ccx slave area through the mesh, not through ``id - 1``."""
 
 import shutil
 
-import numpy as np
 import pytest
 
-from deckbridge.dialects import DIALECTS
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers.calculix import n2f_tangential_force
-from deckbridge.render import render_all
-from test_import_mesh import _export
+from test_import_mesh import _renumbered
+from ccx_job import ccx_penalty_job
 
 SMALL = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", "steps.increments=4", "steps.lambda_max=0.8",
          "contact.stop.side=none", "contact.friction=0.1", "contact.tangential=friction", "name=F"]
 
 
 def _ccx_tangential(model, folder):
-    render_all(model, folder, names=["calculix"])
-    deck = folder / f"{model.name}_ccx_penalty.inp"
-    DIALECTS["calculix"].run_module().run(deck, timeout_s=300)
+    deck = ccx_penalty_job(model, folder)
     return n2f_tangential_force(deck.with_suffix(".dat"), model)
 
 
@@ -30,11 +26,7 @@ def _ccx_tangential(model, folder):
 def test_renumbered_import_gives_the_same_ccx_tangential_forces(tmp_path):
     par = load(None, SMALL)
     me = build_mesh(par)
-    rng = np.random.default_rng(5)
-    nid = rng.permutation(me.n_nodes) * 7 + 90001
-    eid = rng.permutation(me.hexes.shape[0]) * 5 + 3001
-    on, oe = rng.permutation(me.n_nodes), rng.permutation(me.hexes.shape[0])
-    f = _export(me, tmp_path / "renum.inp", nid, eid, on, oe)
+    f, nid, *_ = _renumbered(me, tmp_path / "renum.inp", 5, (7, 90001), (5, 3001))
     imp = load(None, SMALL + [f"mesh.file={f}", "mesh.sets={base: BASE, top: TOP}"])
     a = _ccx_tangential(par, tmp_path / "par")
     b = _ccx_tangential(imp, tmp_path / "imp")

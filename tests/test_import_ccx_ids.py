@@ -10,7 +10,7 @@ from deckbridge.job import run_job
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
-from test_import_mesh import _export
+from test_import_mesh import _renumbered
 
 SMALL = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", "steps.increments=4", "name=J"]
 
@@ -21,11 +21,7 @@ def test_renumbered_import_gives_ccx_the_same_answers_through_the_job(tmp_path):
 
     par = load(None, SMALL)
     me = build_mesh(par)
-    rng = np.random.default_rng(3)
-    nid = rng.permutation(me.n_nodes) * 11 + 40001
-    eid = rng.permutation(me.hexes.shape[0]) * 3 + 7001
-    on, oe = rng.permutation(me.n_nodes), rng.permutation(me.hexes.shape[0])
-    f = _export(me, tmp_path / "renum.inp", nid, eid, on, oe)
+    f, nid, _, on, _ = _renumbered(me, tmp_path / "renum.inp", 3, (11, 40001), (3, 7001))
     imp = load(None, SMALL + [f"mesh.file={f}", "mesh.sets={base: BASE, top: TOP}"])
     quiet = lambda s: None  # noqa: E731
     run_job(par, tmp_path / "par", with_ccx=True, echo=quiet)

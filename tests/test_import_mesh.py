@@ -51,6 +51,17 @@ def _export(mesh, path, node_ids, elem_ids, order_n, order_e):
     return write_inp(path, node_ids[order_n], mesh.nodes[order_n], elem_ids[order_e], conn[order_e], sets)
 
 
+def _renumbered(mesh, path, seed, node_ids, elem_ids):
+    """Write ``mesh`` as an .inp with shuffled ids (permutation x step + first, ``node_ids`` and ``elem_ids``
+    each (step, first)) and nodes and elements in a shuffled file order; returns (path, node ids, element
+    ids, node order, element order)."""
+    rng = np.random.default_rng(seed)
+    nid = rng.permutation(mesh.n_nodes) * node_ids[0] + node_ids[1]
+    eid = rng.permutation(mesh.hexes.shape[0]) * elem_ids[0] + elem_ids[1]
+    on, oe = rng.permutation(mesh.n_nodes), rng.permutation(mesh.hexes.shape[0])
+    return _export(mesh, path, nid, eid, on, oe), nid, eid, on, oe
+
+
 def test_default_jar_written_out_and_imported_back_gives_the_same_sigma(tmp_path):
     ref_model = load(None, ["steps.increments=2"])   # the default JAR mesh; a short load path
     me = build_mesh(ref_model)
