@@ -31,6 +31,23 @@ def _kern(model):
     return thin, model.loads.N * (ro ** 2 + ri ** 2) / (4 * ro) / model.base_moment
 
 
+class Killed(Exception):
+    """Raised from a sweep's ``on_case_stored``: the sweep stops as if it were killed."""
+
+
+def kill_after(n: int):
+    """(seen, callback): the ``on_case_stored`` callback records each stored case id in ``seen`` and
+    raises :class:`Killed` when the n-th is stored."""
+    seen = []
+
+    def callback(case):
+        seen.append(case.case_id)
+        if len(seen) == n:
+            raise Killed
+
+    return seen, callback
+
+
 # ----------------------------------------------------------------------------- liftoff
 @pytest.mark.parametrize("extra", [
     ["contact.stop.side=none"],                        # T and M; T carried by the tangential springs
@@ -150,15 +167,7 @@ def test_killed_sweep_resumes_with_the_same_summary_computing_only_missing_cases
     model = load(None, TINY)
     assert len(ref["run"]["computed"]) == 8 and not ref["run"]["reused"]
 
-    class Killed(Exception):
-        pass
-
-    seen = []
-
-    def kill_after_three(case):
-        seen.append(case.case_id)
-        if len(seen) == 3:
-            raise Killed
+    seen, kill_after_three = kill_after(3)
 
     out = tmp_path / "sweep"
     with pytest.raises(Killed):
@@ -287,15 +296,7 @@ def test_killed_grid_sweep_resumes_and_grid_points_share_one_condensation(tmp_pa
     variants = mesh_variants(model, None, GRID)
     assert len({v.condense_key for v in variants}) == 1 and len({v.key for v in variants}) == 2
 
-    class Killed(Exception):
-        pass
-
-    seen = []
-
-    def kill_after_five(case):
-        seen.append(case.case_id)
-        if len(seen) == 5:
-            raise Killed
+    seen, kill_after_five = kill_after(5)
 
     out = tmp_path / "sweep"
     with pytest.raises(Killed):

@@ -15,6 +15,7 @@ from deckbridge.cli import main
 from deckbridge.model import load
 from deckbridge.studies import CaseStore, run_sweep
 from deckbridge.studies.local import LocalExecutor
+from test_studies import Killed, kill_after
 
 TINY = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "steps.increments=5"]
 KS = [0.1, 1.0, 10.0]
@@ -47,7 +48,7 @@ def test_local_sweep_writes_what_a_dask_split_sweep_writes(tmp_path):
 
 def test_local_strategy_mesh_recovers_the_wall_as_the_in_process_sweep(tmp_path):
     model = load(None, TINY)
-    ref = run_sweep(model, KS, tmp_path / "ref", progress=False, report=False)          # in process, factor kept
+    run_sweep(model, KS, tmp_path / "ref", progress=False, report=False)                # in process, factor kept
     with LocalExecutor(2) as ex:
         got = run_sweep(model, KS, tmp_path / "mesh", client=ex, strategy="mesh", progress=False, report=False)
     assert got["run"]["executor"] == "local (2 processes, strategy mesh)"
@@ -61,15 +62,7 @@ def test_killed_local_sweep_stops_its_workers_and_resumes_to_the_same_files(tmp_
     with LocalExecutor(2) as ex:
         whole = run_sweep(model, KS, tmp_path / "whole", client=ex, progress=False, report=False)
 
-    class Killed(Exception):
-        pass
-
-    seen = []
-
-    def kill_after_two(case):
-        seen.append(case.case_id)
-        if len(seen) == 2:
-            raise Killed
+    seen, kill_after_two = kill_after(2)
 
     out = tmp_path / "sweep"
     with pytest.raises(Killed):
