@@ -16,9 +16,9 @@ mesh (:mod:`.metrics`) and writes, atomically:
 
 Cases are grouped by condense key (:attr:`.cases.MeshVariant.condense_key`): grid points differing only
 in the penalty rule, the open ratio or the spring stiffness share one condensation, each case re-binding
-its own contact and spring stiffness on it (:func:`.tasks.solve_case`). With k_t following alpha the
-penalty springs scale with the k-factor (:mod:`deckbridge.tangent_springs`); the Lagrange reference keeps
-those of the model's alpha. Base-wall sigma_zz needs the sparse factor: in process and with strategy
+its own contact and spring stiffness on it (:func:`.tasks.solve_case`). The Lagrange reference is the limit
+k -> infinity of the penalty cases: with k_t following alpha the penalty springs scale with the k-factor
+and the reference's are rigid; a fixed k_t is the same in both (:mod:`deckbridge.tangent_springs`). Base-wall sigma_zz needs the sparse factor: in process and with strategy
 'mesh' it is recovered, with 'split' (condensation moved to other workers) only contact sigma_N is judged.
 
 Execution: ``client=None`` runs in this process (with field recovery); a
