@@ -346,3 +346,4 @@ def test_sweep_reaches_its_own_lagrange_reference_on_held_out_geometries(tmp_pat
     applied = np.array(lv["N_force"]) + np.array(lv["T_force"])
     assert np.allclose(F, -applied, rtol=0, atol=1e-6 * model.loads.N), (F, applied)
     assert np.allclose(M[:2], -np.array(lv["M_moment"][:2]), rtol=0, atol=1e-6 * model.base_moment), M
+
