@@ -340,7 +340,7 @@ def test_sweep_reaches_its_own_lagrange_reference_on_held_out_geometries(tmp_pat
     # the rigid springs still carry their share: the reactions balance the applied loads at lambda = 1
     lag = CaseStore(tmp_path / "s").meta(next(c for c in sweep_cases(mesh_variants(model), [1.0])
                                               if c.method == "lagrange"))["summary"]
-    assert lag["k_tangent_rigid"] is (k_tangent == "follow")
+    assert lag["k_tangent_rigid"] is (k_tangent == "follow") is m["lagrange"]["k_tangent_rigid"]
     F, M = np.array(lag["reaction_force_n"]["2"]), np.array(lag["reaction_moment_nm"]["2"])
     lv = model.load_vectors()
     applied = np.array(lv["N_force"]) + np.array(lv["T_force"])

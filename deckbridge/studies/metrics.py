@@ -91,6 +91,7 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
         "peak_compression_theta_deg": {f"{p.load_factor:g}": p.peaks[lag.label][1] for p in comp.points},
         "liftoff_zones": {f"{p.load_factor:g}": p.zones[lag.label] for p in comp.points},
         "dofs": ls["dofs"], "contact_rows": ls["contact_rows"],
+        "k_tangent_rigid": bool(ls.get("k_tangent_rigid", False)),     # the limit of following springs
     })
     rows, per_k = [], []
     for pt in comp.points:

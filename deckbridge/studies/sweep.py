@@ -334,6 +334,12 @@ def make_summary(model: Model, variants, results: list[VariantResult], k_factors
                          else f"k_c = {pen.k_normal:g} N/m per slave node") + " times the k-factor; open gaps "
                         + (f"k_open = {pen.open_ratio:g} k" if open_stiffness == "scaled"
                            else f"k_open = {pen.open_ratio:g} k_c at every k"),
+        "lagrange_reference": (
+            "Coulomb friction with exact stick: the limit k -> infinity of the penalty cases only when their "
+            "stick slope k_t follows k" if model.contact.tangential == "friction" else
+            "the limit k -> infinity of the penalty cases: " + (
+                "circumferential springs rigid (k_t follows k)" if pen.k_tangent_follows else
+                f"the same circumferential springs, k_t = {pen.k_tangent:g} N/m")),
         "requested_load_factors": None if load_factors is None else sorted(float(x) for x in load_factors),
         "recommended_k_factor": rec,
         "recommended_k_factor_note": (
