@@ -2,6 +2,7 @@
 names is the one of summary.json (issue 21.8)."""
 
 import json
+from html import escape
 from html.parser import HTMLParser
 
 import pytest
@@ -52,14 +53,17 @@ def test_sweep_report_tables_have_one_cell_per_header_and_the_first_liftoff_of_s
     (0.5195, the solver's)."""
     out = tmp_path / "s"
     run_sweep(load(None, TINY), [1.0, 100.0], out, progress=False, report=True)
+    html = (out / "report.html").read_text(encoding="utf-8")
     page = _Tables()
-    page.feed((out / "report.html").read_text(encoding="utf-8"))
+    page.feed(html)
     assert len(page.tables) >= 5
     for t in page.tables:
         head, *rows = t
         assert {tag for tag, _ in head} == {"th"} and rows, head
         assert all(len(r) == len(head) for r in rows), ([c for _, c in head], [len(r) for r in rows])
     summary = json.loads((out / "summary.json").read_text())
+    ref = summary["lagrange_reference"]                 # what summary.json says the reference is, in the report
+    assert "same circumferential springs, k_t = 2e+08 N/m" in ref and f"Lagrange reference: {escape(ref)}." in html
     m = summary["meshes"][0]
     first = min([m["lagrange"]["liftoff_load_factor"]] + [d["liftoff_load_factor"] for d in m["penalty"]])
     lifts = [h for h in page.h3 if "first liftoff" in h]

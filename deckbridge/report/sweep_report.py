@@ -174,6 +174,7 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None, quantiti
     claims = _claims_view(summary, quantities, pngs)
     return env().get_template("sweep.html.j2").render(claims=claims, claims_definition=summary.get("claims_definition"),
         ver=deckbridge_version(), penalty_rule=summary["penalty_rule"], recommended=summary["recommended_k_factor"],
+        lagrange_reference=summary.get("lagrange_reference"),
         recommended_note=summary["recommended_k_factor_note"], tol_pct=summary["tol"] * 100, metrics_png=metrics,
         meshes=meshes, figure_below_pct=FIGURE_BELOW * 100, point_head=POINT_HEAD,
         model_rows=None if model is None else model_rows(model))
