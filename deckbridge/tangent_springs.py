@@ -15,7 +15,7 @@ unchanged (same object), so default results do not move.
 solve, the reference of a penalty sweep (:mod:`deckbridge.studies`): when k_t follows k_n the springs
 become rigid (the circumferential displacement of every table node held at 0, as Lagrange holds the
 normal gap exactly; k_t = ``RIGID`` x the largest diagonal entry of the contact operator's block, which
-leaves the condensed operator within ~1e-12 of the exact constraint), and a fixed k_t is kept, since
+leaves sigma_N within ~1e-11 of the peak of the exact constraint), and a fixed k_t is kept, since
 the penalty cases keep it too. The system remembers the choice (``info['spring_limit']``), so a later
 ``follow_springs`` on it without ``limit`` keeps it.
 """

@@ -347,3 +347,20 @@ def test_sweep_reaches_its_own_lagrange_reference_on_held_out_geometries(tmp_pat
     assert np.allclose(F, -applied, rtol=0, atol=1e-6 * model.loads.N), (F, applied)
     assert np.allclose(M[:2], -np.array(lv["M_moment"][:2]), rtol=0, atol=1e-6 * model.base_moment), M
 
+
+
+def test_rigid_springs_of_the_reference_are_the_exact_circumferential_tie():
+    """The sweep's Lagrange reference with k_t following k (rigid springs, a finite k_t far above the
+    body's stiffness) against the exact constraint: the spring dofs eliminated (u_s = 0, S_c = S_cc)."""
+    from deckbridge.tangent_springs import follow_springs
+    _, system = condense_model(load(None, TINY))
+    rigid = follow_springs(system, "lagrange", 1.0, limit=True)
+    assert follow_springs(rigid, "lagrange", 1.0) is rigid                      # kept by the solve path
+    assert follow_springs(rigid, "penalty", 10.0).info["spring_limit"] is False  # penalty scales from as built
+    nc = system.problem.n_contacts
+    tie = dataclasses.replace(system, Sc=system.S[:nc, :nc], fc=system.fhat[:nc], Gs=np.zeros_like(system.Gs),
+                              us0=np.zeros_like(system.us0))
+    a, b = (rs.solve_path(s, "lagrange", increments=5, recover=False) for s in (rigid, tie))
+    assert np.abs(a.sigma_n - b.sigma_n).max() < 1e-9 * np.abs(b.sigma_n).max()     # measured 1.5e-11 (24x6x1)
+    assert a.liftoff_load_factor == pytest.approx(b.liftoff_load_factor, abs=1e-9)
+    assert np.abs(a.spring_u).max() < 1e-12 * np.abs(a.u).max()
