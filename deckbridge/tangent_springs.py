@@ -10,11 +10,20 @@ algebra on the retained dofs, not a new factorisation.
 penalty solve at k-factor f uses k_t = f x k_c of each node (the paper's eq. 3 with the same alpha);
 a fixed k_t [N/m] and every Lagrange solve keep the springs as built. At f = 1 the system is returned
 unchanged (same object), so default results do not move.
+
+``follow_springs(..., limit=True)`` gives the limit f -> infinity of those penalty systems for a Lagrange
+solve, the reference of a penalty sweep (:mod:`deckbridge.studies`): when k_t follows k_n the springs
+become rigid (the circumferential displacement of every table node held at 0, as Lagrange holds the
+normal gap exactly; k_t = ``RIGID`` x the largest diagonal entry of the contact operator's block, which
+leaves sigma_N within ~1e-11 of the peak of the exact constraint), and a fixed k_t is kept, since
+the penalty cases keep it too. The system remembers the choice (``info['spring_limit']``), so a later
+``follow_springs`` on it without ``limit`` keeps it.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import scipy.linalg as sla
@@ -22,11 +31,17 @@ import scipy.linalg as sla
 import reference_solver as rs
 
 
-def spring_scale(problem: rs.Problem, method: str, k_factor: float) -> float:
-    """Factor on the springs as built: k_factor for penalty when k_t follows k_n, else 1."""
-    if method == "penalty" and problem.kt_follows_k and problem.n_springs:
+RIGID = 1.0e12       # rigid springs: k_t / max diag of the condensed contact block [-]
+
+
+def spring_scale(problem: rs.Problem, method: str, k_factor: float, limit: bool = False) -> float:
+    """Factor on the springs as built: k_factor for penalty when k_t follows k_n, infinity for the
+    Lagrange ``limit`` of such penalty cases (rigid springs), else 1."""
+    if not (problem.kt_follows_k and problem.n_springs):
+        return 1.0
+    if method == "penalty":
         return float(k_factor)
-    return 1.0
+    return math.inf if limit else 1.0
 
 
 def rebind(system: rs.CondensedSystem, problem: rs.Problem, scale: float = 1.0) -> rs.CondensedSystem:
@@ -61,14 +76,26 @@ def rebind(system: rs.CondensedSystem, problem: rs.Problem, scale: float = 1.0) 
                                Gs=Gs, us0=us0, info=info)
 
 
-def follow_springs(system: rs.CondensedSystem, method: str, k_factor: float) -> rs.CondensedSystem:
-    """The system a solve with ``method`` at ``k_factor`` runs on (see the module docstring)."""
+def follow_springs(system: rs.CondensedSystem, method: str, k_factor: float,
+                   limit: bool | None = None) -> rs.CondensedSystem:
+    """The system a solve with ``method`` at ``k_factor`` runs on (see the module docstring);
+    ``limit``: the Lagrange reference of penalty cases (rigid following springs); None = as ``system``."""
+    if limit is None:
+        limit = bool(system.info.get("spring_limit", False))
     base = system.info.get("spring_base")
     if base is None:                      # the springs as built (before any follow scaling)
         base = system.problem
-    s = spring_scale(base, method, k_factor)
+    s = spring_scale(base, method, k_factor, limit)
     if s == 1.0 and base is system.problem:
         return system
-    out = rebind(system, base, s)
+    if math.isinf(s) and system.info.get("spring_limit"):
+        return system
+    if math.isinf(s):                     # rigid: one stiffness far above the body's, at every spring
+        nc = base.n_contacts
+        k_rigid = RIGID * float(np.abs(np.diag(system.S)[:nc]).max(initial=0.0) or 1.0)
+        out = rebind(system, dataclasses.replace(base, spring_k=np.full(base.n_springs, k_rigid)))
+    else:
+        out = rebind(system, base, s)
     out.info["spring_base"] = base
+    out.info["spring_limit"] = bool(limit and math.isinf(s))
     return out

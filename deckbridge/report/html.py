@@ -99,6 +99,7 @@ def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dic
         pair = {"a": la, "b": lb, "pct": pct}
     return env().get_template("comparison.html.j2").render(
         ver=deckbridge_version(), primary=_point(result.primary, figures[-1]), points=points, sources=sources,
+        source_head=SOURCE_HEAD,
         model_rows=None if model is None else model_rows(model), global_rows=rows, von_mises_pair=pair,
         global_png=global_png, notes=list(notes or []), path_pngs=list(path_pngs or []),
         banners=list(banners or []), caveats=list(caveats or []), friction_pngs=list(friction_pngs or []),
@@ -120,6 +121,10 @@ def _point(pt, png: bytes) -> dict:
                        mpa(p["rms_diff_pa"]), f"{p['liftoff_zone_overlap']:.3f}",
                        "no zone" if p["liftoff_zone_overlap_tol"] is None else f"{p['liftoff_zone_overlap_tol']:.3f}"]
                       for p in pt.pairs]}
+
+
+SOURCE_HEAD = ["source", "liftoff zones [deg]", "peak σN through the wall [MPa]", "at θ [deg]", "peak node σN [MPa]",
+               "at θ [deg]", "lifted arc [deg]", "checks"]        # the columns of source_rows
 
 
 def source_rows(pt, labels) -> list[list[str]]:

@@ -15,7 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from .figures import png_bytes, sigma_n_figure
-from .html import deckbridge_version, env, fmt, model_rows, mpa, source_rows
+from .html import SOURCE_HEAD, deckbridge_version, env, fmt, model_rows, mpa, source_rows
 
 FIGURE_BELOW = 0.1       # no sigma_N figure where every k is within 10 % of the tolerance of Lagrange
 _MESH_COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
@@ -92,8 +92,12 @@ def _mesh_rows(m: dict) -> list[list[str]]:
     return rows
 
 
+POINT_HEAD = ["case"] + SOURCE_HEAD[1:] + ["max |ΔσN| vs Lagrange [MPa]", "zone IoU"]    # the columns of _point_rows
+
+
 def _point_rows(pt) -> list[list[str]]:
-    """Per case at one load factor: zones, peak, and the difference / zone IoU against Lagrange."""
+    """Per case at one load factor (columns :data:`POINT_HEAD`): the comparison report's source columns
+    (:func:`~deckbridge.report.html.source_rows`), then the difference and zone IoU against Lagrange."""
     lab = pt.labels[0]
     rows = []
     for x, base in zip(pt.labels, source_rows(pt, pt.labels)):
@@ -170,8 +174,9 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None, quantiti
     claims = _claims_view(summary, quantities, pngs)
     return env().get_template("sweep.html.j2").render(claims=claims, claims_definition=summary.get("claims_definition"),
         ver=deckbridge_version(), penalty_rule=summary["penalty_rule"], recommended=summary["recommended_k_factor"],
+        lagrange_reference=summary.get("lagrange_reference"),
         recommended_note=summary["recommended_k_factor_note"], tol_pct=summary["tol"] * 100, metrics_png=metrics,
-        meshes=meshes, figure_below_pct=FIGURE_BELOW * 100,
+        meshes=meshes, figure_below_pct=FIGURE_BELOW * 100, point_head=POINT_HEAD,
         model_rows=None if model is None else model_rows(model))
 
 

@@ -25,7 +25,8 @@ from dataclasses import dataclass, field
 from ..errors import DeckbridgeError
 from ..model import MeshSpec, Model, parse_override
 
-CASE_FORMAT = 1                      # bump when the stored case content changes meaning
+CASE_FORMAT = 2                      # bump when the stored case content changes meaning (2: Lagrange with
+                                     # k_t following k_n has rigid springs, the limit of its penalty cases)
 MESH_KEYS = tuple(f.name for f in MeshSpec.__dataclass_fields__.values())
 OPEN_STIFFNESS = ("scaled", "fixed")
 # keys applied after the condensation (spring stiffness is re-bound on the retained dofs, see

@@ -27,6 +27,7 @@ import pandas as pd
 from ..compare import ComparisonResult, compare_series
 from ..jsonable import json_clean
 from ..compare.series import series_of
+from ..results import SourceResult
 from .cases import Case, MeshVariant
 
 SIG_DIGITS = 10        # floats in summary.json: stable across re-runs, far below any physical meaning
@@ -78,7 +79,10 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
         return VariantResult(variant, None, lagrange, per_k, [], None, errors)
 
     ok = [c for c in pens if not records[c.case_id].get("error")]
-    comp = compare_series([of(lag)] + [of(c) for c in ok], load_factors)
+    # with each case's solver summary the onsets are the solver's exact ones, the numbers summary.json gives
+    comp = compare_series([of(lag)] + [of(c) for c in ok], load_factors,
+                          {c.label: SourceResult(tables[c.case_id], summary=records[c.case_id].get("summary"))
+                           for c in [lag] + ok})
     ls = lrec["summary"]
     lagrange.update({
         "liftoff_load_factor": ls["liftoff_load_factor"], "liftoff_theta_deg": ls["liftoff_theta_deg"],
@@ -87,6 +91,7 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
         "peak_compression_theta_deg": {f"{p.load_factor:g}": p.peaks[lag.label][1] for p in comp.points},
         "liftoff_zones": {f"{p.load_factor:g}": p.zones[lag.label] for p in comp.points},
         "dofs": ls["dofs"], "contact_rows": ls["contact_rows"],
+        "k_tangent_rigid": bool(ls.get("k_tangent_rigid", False)),     # the limit of following springs
     })
     rows, per_k = [], []
     for pt in comp.points:

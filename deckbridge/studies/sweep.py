@@ -16,9 +16,9 @@ mesh (:mod:`.metrics`) and writes, atomically:
 
 Cases are grouped by condense key (:attr:`.cases.MeshVariant.condense_key`): grid points differing only
 in the penalty rule, the open ratio or the spring stiffness share one condensation, each case re-binding
-its own contact and spring stiffness on it (:func:`.tasks.solve_case`). With k_t following alpha the
-penalty springs scale with the k-factor (:mod:`deckbridge.tangent_springs`); the Lagrange reference keeps
-those of the model's alpha. Base-wall sigma_zz needs the sparse factor: in process and with strategy
+its own contact and spring stiffness on it (:func:`.tasks.solve_case`). The Lagrange reference is the limit
+k -> infinity of the penalty cases: with k_t following alpha the penalty springs scale with the k-factor
+and the reference's are rigid; a fixed k_t is the same in both (:mod:`deckbridge.tangent_springs`). Base-wall sigma_zz needs the sparse factor: in process and with strategy
 'mesh' it is recovered, with 'split' (condensation moved to other workers) only contact sigma_N is judged.
 
 Execution: ``client=None`` runs in this process (with field recovery); a
@@ -334,6 +334,12 @@ def make_summary(model: Model, variants, results: list[VariantResult], k_factors
                          else f"k_c = {pen.k_normal:g} N/m per slave node") + " times the k-factor; open gaps "
                         + (f"k_open = {pen.open_ratio:g} k" if open_stiffness == "scaled"
                            else f"k_open = {pen.open_ratio:g} k_c at every k"),
+        "lagrange_reference": (
+            "Coulomb friction with exact stick: the limit k -> infinity of the penalty cases only when their "
+            "stick slope k_t follows k" if model.contact.tangential == "friction" else
+            "the limit k -> infinity of the penalty cases: " + (
+                "circumferential springs rigid (k_t follows k)" if pen.k_tangent_follows else
+                f"the same circumferential springs, k_t = {pen.k_tangent:g} N/m")),
         "requested_load_factors": None if load_factors is None else sorted(float(x) for x in load_factors),
         "recommended_k_factor": rec,
         "recommended_k_factor_note": (

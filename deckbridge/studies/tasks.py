@@ -90,7 +90,11 @@ def _system_for(system, method: str, k_factor: float, open_stiffness: str):
 
 def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float | None,
                open_stiffness: str = "scaled") -> tuple[pd.DataFrame, dict, dict]:
-    """Solve one case on a condensed variant: (tidy contact table, solver summary, provenance)."""
+    """Solve one case on a condensed variant: (tidy contact table, solver summary, provenance).
+
+    A Lagrange case is the reference of the penalty cases, their limit k -> infinity: with k_t following
+    k_n its circumferential springs are rigid (:func:`deckbridge.tangent_springs.follow_springs`, ``limit``),
+    a fixed k_t is kept (summary 'k_tangent_rigid')."""
     from ..solve import solve_system
 
     from ..tangent_springs import follow_springs
@@ -102,7 +106,7 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
     wall = None
     try:
         mesh, system = _bind(cond, model)
-        system = follow_springs(_system_for(system, method, kf, open_stiffness), method, kf)
+        system = follow_springs(_system_for(system, method, kf, open_stiffness), method, kf, limit=True)
         with one_blas_thread():
             df, summary, sol = solve_system(model, mesh, system, method, kf, recover=False)
             lam_s, th_s = reference_section_onset(system, mesh, sol)
@@ -114,6 +118,7 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
     except Exception as exc:        # anything else crosses the process boundary as one line
         raise DeckbridgeError(f"model {model.name!r}, {method}: {type(exc).__name__}: {exc}") from None
     summary["k_tangent_follows_k"] = bool(system.problem.kt_follows_k)
+    summary["k_tangent_rigid"] = bool(system.info.get("spring_limit", False))
     if method == "penalty":
         summary["open_stiffness"] = open_stiffness
         summary["k_open_ratio_used"] = float(system.problem.k_open_ratio)
