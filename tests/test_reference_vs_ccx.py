@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from deckbridge.job import run_job
+from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
 
@@ -120,3 +121,34 @@ def test_ccx_penalty_inside_the_small_strain_range_off_the_default_geometry(tmp_
         assert not free_penetration(c)["free_penetration_warn"], lam
         compared_past_liftoff += int((r.status == "open").any())
     assert compared_past_liftoff >= 1
+
+
+def test_a_load_path_past_tipping_is_named(tmp_path):
+    """Issue 21.3's skirt (R 1.2 m, H 1.5 m, t 12 mm) under the default loads tips over at
+    lambda = N (R + t/2) / (M + T H) = 2.7e6 x 1.206 / (3e6 + 2e5 x 1.5) = 0.98673 (a compression-only base:
+    the contact resultant cannot pass the outer edge). A solve to lambda_max = 1 fails with one line that
+    names steps.lambda_max and that load factor; the ccx decks say it in their header; at lambda_max 0.95 neither."""
+    from click.testing import CliRunner
+
+    from deckbridge.cli import main
+    from deckbridge.render import calculix
+
+    tip = 2.7e6 * (1.2 + 0.006) / (3.0e6 + 2.0e5 * 1.5)
+    base = ["geometry.radius=1.2", "geometry.height=1.5", "geometry.thickness=0.012", "mesh.n_theta=24",
+            "mesh.n_z=4", "mesh.n_r=1"]
+    args = [a for kv in base for a in ("--set", kv)]
+    res = CliRunner().invoke(main, ["solve", *args, "--method", "penalty", "-o", str(tmp_path / "s")])
+    assert res.exit_code != 0 and not (tmp_path / "s").exists()
+    line = res.output.strip().splitlines()[-1]
+    assert "steps.lambda_max = 1 is past the tipping load" in line and f"= {tip:.4g}:" in line
+    model = load(None, base)
+    assert model.tipping_load_factor() == pytest.approx(tip, rel=1e-12)
+    (tmp_path / "d").mkdir()
+    deck = calculix.write(model, build_mesh(model), tmp_path / "d")[0].read_text()
+    assert "** WARNING: steps.lambda_max = 1.000000000000e+00 is past the tipping load" in deck
+    ok = load(None, base + ["steps.lambda_max=0.95"])
+    (tmp_path / "e").mkdir()
+    assert "tipping" not in calculix.write(ok, build_mesh(ok), tmp_path / "e")[0].read_text()
+    res = CliRunner().invoke(main, ["solve", *args, "--set", "steps.lambda_max=0.95", "--method", "penalty",
+                                    "-o", str(tmp_path / "t")])
+    assert res.exit_code == 0 and "tipping load" not in res.output
