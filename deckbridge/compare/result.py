@@ -6,6 +6,7 @@ factor inside the small-strain range (every source's lift / R <= :data:`~deckbri
 issue 21) and the end of step 2 (the smallest lambda_max of the sources). The headline (:attr:`ComparisonResult.primary`)
 is the largest default point inside the small-strain range: past it a small-strain and a large-displacement
 analysis compare two idealisations, not two codes (REFERENCE.md §8); the post-liftoff points stay compared.
+The sweep's per-case comparisons (:func:`compare_series` with ``headline=False``) keep the other three points.
 Requested load factors replace the defaults (the headline is then the last); a source lacking one is
 interpolated linearly between its increments, or refused when outside its range.
 Pair differences are sigma_b - sigma_a, pairs taken in source order (a before b).
@@ -155,8 +156,10 @@ def lift_over_radius(series: list[Series], lam: float) -> float | None:
     return max(vals) if vals else None
 
 
-def default_load_factors(series: list[Series], liftoff: dict[str, float | None]) -> list[tuple[float, str, bool]]:
-    """(lambda, why, headline) of the default comparison points (see module doc)."""
+def default_load_factors(series: list[Series], liftoff: dict[str, float | None],
+                         headline: bool = True) -> list[tuple[float, str, bool]]:
+    """(lambda, why, headline) of the default comparison points (see module doc); ``headline`` False: no
+    small-strain point and no headline mark (the sweep's per-case comparisons keep their three points)."""
     pts: list[tuple[float, str]] = []
     if any(s.covers(0.0) for s in series):
         pts.append((0.0, "end of step 1 (N only)"))
@@ -176,7 +179,8 @@ def default_load_factors(series: list[Series], liftoff: dict[str, float | None])
                 lam = first
             if not _same(lam, lam_max) and lam > LAMBDA_TOL:
                 pts.append((float(lam), f"first liftoff of any source (lambda = {first:.4g})"))
-    inside = [c for c in cands if (v := lift_over_radius(series, c)) is not None and v <= Q.SMALL_STRAIN_LIFT]
+    inside = [c for c in cands if headline and (v := lift_over_radius(series, c)) is not None
+              and v <= Q.SMALL_STRAIN_LIFT]
     last_in = max(inside, default=None)
     if last_in is not None and lam_max is not None and not _same(last_in, lam_max) \
             and all(not _same(last_in, p) for p, _ in pts) and last_in > max((p for p, _ in pts), default=0.0):
@@ -185,7 +189,7 @@ def default_load_factors(series: list[Series], liftoff: dict[str, float | None])
         pts.append((float(lam_max), "end of step 2 (lambda_max)"))
     if not pts:
         raise DeckbridgeError("the sources share no load factor to compare at")
-    return _headline(series, pts)
+    return _headline(series, pts) if headline else [(lam, what, False) for lam, what in pts]
 
 
 def _headline(series: list[Series], pts: list[tuple[float, str]]) -> list[tuple[float, str, bool]]:
@@ -264,9 +268,10 @@ def state_quantities(rows, record: SourceResult | None, st) -> dict:
 
 
 def compare_series(series: list[Series], load_factors: list[float] | None = None,
-                   records: dict[str, SourceResult] | None = None) -> ComparisonResult:
+                   records: dict[str, SourceResult] | None = None, headline: bool = False) -> ComparisonResult:
     """Compare built series at the requested (or default) load factors; ``records``: label -> the
-    source record (its solver summary gives the exact onsets, its wall table sigma_zz)."""
+    source record (its solver summary gives the exact onsets, its wall table sigma_zz); ``headline``: add
+    the small-strain point and lead with it (:func:`compare_tables`, the report's comparisons)."""
     if not series:
         raise DeckbridgeError("nothing to compare: no source given")
     records = records or {}
@@ -277,7 +282,7 @@ def compare_series(series: list[Series], load_factors: list[float] | None = None
         pts = [(lam, "requested", False) for lam in requested]
         strict = True
     else:
-        pts = default_load_factors(series, liftoff)
+        pts = default_load_factors(series, liftoff, headline)
         strict = False
     points = []
     for lam, what, head in pts:
@@ -309,4 +314,5 @@ def compare_tables(tables: list, load_factors=None, origins=None, surface: str =
         by_origin.setdefault(r.origin, r)
     if sum(r.origin is None for r in records) > 1:
         by_origin.pop(None, None)          # several records without origin: no way to tell them apart
-    return compare_series(series, load_factors, {s.label: by_origin[s.origin] for s in series if s.origin in by_origin})
+    return compare_series(series, load_factors, {s.label: by_origin[s.origin] for s in series if s.origin in by_origin},
+                          headline=True)
