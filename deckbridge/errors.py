@@ -67,3 +67,7 @@ class DeckUnsupported(InputError):
     def __init__(self, dialect: str, reason: str):
         self.dialect, self.reason = dialect, reason
         super().__init__(f"{dialect} deck: {reason}")
+
+    def note(self) -> str:
+        """The one line printed where the dialect is left out and the other decks are written."""
+        return f"note: {self}; that dialect is left out"

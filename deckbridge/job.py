@@ -42,7 +42,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
     decks = render_all(model, out / "decks", mesh=mesh,
-                       on_unsupported=lambda exc: echo(f"note: {exc}; that dialect is left out"))
+                       on_unsupported=lambda exc: echo(exc.note()))
     echo(f"decks: {len(decks)} files in {out / 'decks'}")
 
     mesh, system = condense_model(model, mesh)

@@ -282,6 +282,13 @@ class Model:
         mb = self.base_moment
         return self.loads.N * self.geometry.radius / 2 / mb if mb > 0 else None
 
+    def tipping_load_factor(self) -> float | None:
+        """Load factor past which a compression-only ring base has no equilibrium: the base moment reaches
+        N times the outer base radius, lambda_tip = N (R + t/2) / M_b [-] (pads: an upper bound). None when
+        M_b <= 0. Past it the skirt tips over: no solver and no deck setting can converge there."""
+        mb = self.base_moment
+        return self.loads.N * (self.geometry.radius + self.geometry.thickness / 2) / mb if mb > 0 else None
+
 
 def _build(cls, data: Any, prefix: str):
     if not isinstance(data, Mapping):

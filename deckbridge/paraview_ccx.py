@@ -7,15 +7,18 @@ lambda_max), the pseudo-time of :mod:`deckbridge.paraview` for step 2 (ccx's ste
 reference's step-1 state is at t = 0); a comment before each DataSet says ``step S increment I load_factor L``
 (ccx's increment within the step).
 
-Fields, where ccx gives them (names and units as :mod:`deckbridge.paraview`):
-  ``displacement_m`` (the .frd DISP block), ``node_id``, named-set masks and tributary areas;
+Fields, where ccx gives them (names and units as :mod:`deckbridge.paraview`, SI whatever the deck's
+``units``: the .frd's deck-unit values are divided by the factors of :mod:`deckbridge.units`):
+  ``displacement_m`` (the .frd DISP block) [m], ``node_id``, named-set masks and tributary areas;
   ``<surface>_sigma_n_pa``, ``<surface>_gap_m``, ``<surface>_status`` at the slave nodes from the
   CalculiX reader (:mod:`deckbridge.readers.calculix`: GAPUNI forces or mortar RF / CPRESS; sigma_N < 0
   compression, gap > 0 open, status 1 closed, 0 open, -1 not a slave); a state the reader has no contact
   result for gets NaN sigma_N and gap and status 0 at the slave nodes (0 elsewhere);
-  ``ccx_stress_nodal_pa`` (n, 6) Voigt (xx, yy, zz, xy, yz, zx) when the .frd has a STRESS block: ccx's
-  own nodal extrapolation, which at nodes a GAPUNI element touches is averaged with the gap's zeros
-  (use the reference-style ``*EL PRINT`` recovery for numbers, see readers/ccx_el_stress.py).
+  ``stress_nodal_pa`` (n, 6) [Pa] Voigt (xx, yy, zz, xy, yz, zx) and ``von_mises_nodal_pa`` from the .frd
+  STRESS block (the decks write ``*EL FILE`` S): ccx's own extrapolation to the nodes averaged over the
+  elements at a node, the reference series' definition; at nodes a GAPUNI element touches (the NLGEOM
+  penalty deck, the mortar deck's stop) it is averaged with the gap's zeros (use the ``*EL PRINT``
+  recovery for numbers there, see readers/ccx_el_stress.py).
 No tangential spring force (ccx does not print it for these decks) and no cell stress.
 """
 
@@ -26,10 +29,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from reference_solver.elements import von_mises
+
 from .errors import DeckbridgeError
 from .mesh import build_mesh
 from .numbering.skirt import mesh_node_ids
 from .outdir import staged
+from .units import scale
 from .paraview import contact_data, mesh_data, state_label, write_states
 from .readers import read
 from .readers.calculix import _frd_blocks
@@ -37,9 +43,12 @@ from .readers.calculix import _frd_blocks
 LF_TOL = 1e-6   # relative agreement of the reader's load factor with the .frd time of the same increment
 
 
-def _frd_states(frd: Path, mesh) -> list[dict]:
-    """Per ccx increment with a DISP block, in time order: step, inc, time, u (n, 3), stress or None.
-    Rows in mesh node order; the .frd's node ids are the deck's (the user's ids of an imported mesh)."""
+def _frd_states(frd: Path, mesh, units: str = "SI") -> list[dict]:
+    """Per ccx increment with a DISP block, in time order: step, inc, time, u (n, 3) [m], stress (n, 6) [Pa]
+    or None. Rows in mesh node order; the .frd's node ids are the deck's (the user's ids of an imported
+    mesh), its values in the deck's ``units`` (converted to SI here)."""
+    u = scale(units)
+    to_si = {"DISP": 1.0 / u.length, "STRESS": 1.0 / u.stress}
     _, blocks = _frd_blocks(frd)
     n_nodes = mesh.n_nodes
     index_of = dict(zip(mesh_node_ids(mesh, np.arange(n_nodes)).tolist(), range(n_nodes)))
@@ -54,7 +63,7 @@ def _frd_states(frd: Path, mesh) -> list[dict]:
             i = index_of.get(node)
             if i is not None:
                 a[i] = v[: a.shape[1]]
-        st["u" if b["name"] == "DISP" else "stress"] = a
+        st["u" if b["name"] == "DISP" else "stress"] = a * to_si[b["name"]]
     out = sorted((s for s in states.values() if s["u"] is not None), key=lambda s: s["time"])
     if not out:
         raise DeckbridgeError(f"{str(frd)!r}: no DISP block in the .frd (the deck needs *NODE FILE U)")
@@ -76,7 +85,7 @@ def write_ccx_series(job_path: str | Path, model, outdir: str | Path) -> list[Pa
     base_point, base_cell = mesh_data(mesh)
     lam = model.steps.lambda_max
     states, times, count = [], [], {}
-    for fs in _frd_states(frd, mesh):
+    for fs in _frd_states(frd, mesh, model.units):
         count[fs["step"]] = count.get(fs["step"], 0) + 1
         lf = 0.0 if fs["step"] == 1 else lam * (fs["time"] - (fs["step"] - 1))
         g = groups.get((fs["step"], count[fs["step"]]))
@@ -91,7 +100,7 @@ def write_ccx_series(job_path: str | Path, model, outdir: str | Path) -> list[Pa
                  **contact_data(mesh.n_nodes, rows.nodes, rows.surface, sig, gap,
                                 np.where(np.isnan(closed), 0, closed).astype(bool))}
         if fs["stress"] is not None:
-            point["ccx_stress_nodal_pa"] = fs["stress"]
+            point.update(stress_nodal_pa=fs["stress"], von_mises_nodal_pa=von_mises(fs["stress"]))
         states.append({"point": point, "cell": dict(base_cell), "label": state_label(fs["step"], fs["inc"], lf)})
         times.append(fs["time"])
     comment = (f"deckbridge: CalculiX job {stem.name}, model {model.name}: one VTU per ccx increment; "

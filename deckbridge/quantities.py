@@ -28,6 +28,7 @@ RESIDUAL_WARN = 0.01          # equilibrium residual warned above this (relative
 TENSION_WARN = 0.01           # open-gap tension warned above this fraction of the peak compression
 PENETRATION_WARN = 0.1        # force-free penetration warned above this fraction of a loaded node's largest
 PENETRATION_FLOOR = 1e-6      # ... and above this fraction of the largest node radius (round-off, mortar edges)
+SMALL_STRAIN_LIFT = 0.01      # lift / R above which a small-strain answer is past its range (REFERENCE.md §8)
 
 
 @dataclass(frozen=True)
@@ -57,6 +58,9 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("open_tension_ratio", "1", "none",
              "largest sigma_N > 0 of an open node / |peak compression| (penalty open-gap stiffness)"),
     Quantity("lifted_arc_deg", "deg", "arc weights", "arc of azimuths whose every table node is open"),
+    Quantity("lift_over_radius", "1", "none (one node)",
+             "largest table-node opening / largest table-node radius; above 0.01 the answer is past the "
+             "small-strain range (the headline comparison stays at or below it)"),
     Quantity("free_penetration_m", "m", "none (one node)",
              "largest penetration -gap of a table node that carries no contact force (force_n <= 0): a penalty "
              "node carries k x penetration and a Lagrange node has none, so a value here is an output that "
@@ -177,6 +181,18 @@ def free_penetration(rows: pd.DataFrame) -> dict:
     over = free & (pen > limit)
     return {"free_penetration_m": worst, "free_penetration_nodes": sorted(int(n) for n in r["node"].to_numpy()[over]),
             "free_penetration_warn": bool(over.any())}
+
+
+def lift_over_radius(rows: pd.DataFrame) -> float:
+    """Largest table-node opening of one state over the largest table-node radius [-] (0 when nothing is
+    open or the source gives no gaps): above :data:`SMALL_STRAIN_LIFT` the lifted side has turned as a
+    rigid body far enough that a small-strain analysis and a large-displacement one part ways."""
+    r = table_rows(rows)
+    gap, rad = r["gap_m"].to_numpy(float), np.abs(r["r"].to_numpy(float))
+    ok = np.isfinite(gap) & np.isfinite(rad)
+    if not ok.any() or rad[ok].max() <= 0.0:
+        return 0.0
+    return float(max(gap[ok].max(), 0.0) / rad[ok].max())
 
 
 def lifted_arc_deg(rows: pd.DataFrame) -> float:

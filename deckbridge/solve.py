@@ -100,7 +100,16 @@ def solve_path(model: Model, system: rs.CondensedSystem, method: str, k_factor: 
                              increments=model.steps.increments, algorithm=algorithm, liftoff_surface="table",
                              recover=recover, on_increment=on_increment, **kw)
     except rs.ReferenceSolverError as exc:
-        raise DeckbridgeError(f"model {model.name!r}, method {method}: {exc}") from None
+        raise DeckbridgeError(f"model {model.name!r}, method {method}: {exc}{_past_tipping(model, lambda_max)}") from None
+
+
+def _past_tipping(model: Model, lambda_max: float | None) -> str:
+    """'; steps.lambda_max = ... is past the tipping load ...' when it is (the likely cause of a failure), else ''."""
+    lam, tip = model.steps.lambda_max if lambda_max is None else lambda_max, model.tipping_load_factor()
+    if tip is None or lam < tip:
+        return ""
+    return (f"; steps.lambda_max = {lam:g} is past the tipping load of a compression-only base, lambda = "
+            f"N (R + t/2) / (M + T H) = {tip:.4g}: no equilibrium beyond it (lower steps.lambda_max or the loads)")
 
 
 def solve_system(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, method: str,

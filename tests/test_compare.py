@@ -271,3 +271,33 @@ def test_unreadable_or_mismatched_inputs_end_with_one_line_naming_the_file(tmp_p
     ok = _reference_folder(tmp_path / "ok", make_table("reference", "penalty", 16, beam(small_model), lams=[0.5, 1.0]))
     _fails([str(ok), "-o", out, "--load-factor", "2"], "reference/penalty", "outside its range")
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_headline_sits_inside_the_small_strain_range_past_liftoff(tmp_path):
+    """Issue 21: the default comparison leads with the largest compared load factor whose lift / R <= 0.01
+    in every source (here both reference methods on a 24 x 6 x 1 JAR), which is past liftoff (the lobes:
+    a lifted zone), and still compares lambda_max. The lift is read from each Solution's gaps and the model's
+    geometry (the node radii are R +- t/2), not from the comparison's tables."""
+    from deckbridge.solve import condense_model, solve_system
+
+    model = load(None, ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1"])
+    mesh, system = condense_model(model)
+    tables, lift = [], {}
+    table = system.problem.contact_surface == "table"
+    r_max = model.geometry.radius + model.geometry.thickness / 2
+    for method in ("penalty", "lagrange"):
+        df, _, sol = solve_system(model, mesh, system, method)
+        tables.append(df)
+        for k, lam in enumerate(sol.load_factor):
+            lift[round(float(lam), 9)] = max(lift.get(round(float(lam), 9), 0.0),
+                                             float(np.max(sol.gap[k, table], initial=0.0)) / r_max)
+    res = compare_tables(tables)
+    inside = [lam for lam, v in lift.items() if v <= 0.01]
+    assert max(lift.values()) > 0.01                 # the load path goes past the small-strain range
+    head = res.primary
+    assert head.headline and head.load_factor == pytest.approx(max(inside))
+    assert head.load_factor < model.steps.lambda_max
+    assert res.points[-1].load_factor == pytest.approx(model.steps.lambda_max)     # still compared
+    assert all(head.zones[lab] for lab in head.labels)          # past liftoff in both: the lifted zones
+    assert "small-strain range" in head.what and "idealisations" in head.what
+    assert res.summary()["primary_load_factor"] == pytest.approx(max(inside))

@@ -195,8 +195,13 @@ def test_one_tangential_mechanism(tmp_path):
     mesh = build_mesh(model)
     bdf = _read(write(model, mesh, tmp_path)[0])
     assert "CELAS2" not in bdf.card_count
-    pgaps = [p for p in bdf.properties.values() if p.type == "PGAP"]
-    assert all(p.kt == pytest.approx(3.0e7, rel=1e-15) and p.mu1 == p.mu2 == 0.15 for p in pgaps)
+    gaps = [e for e in bdf.elements.values() if e.type == "CGAP"]
+    vertical = [abs(e.gb_ref.get_position()[2] - e.ga_ref.get_position()[2]) > 0 for e in gaps]
+    table = [e.pid_ref for e, v in zip(gaps, vertical) if v]
+    stop = [e.pid_ref for e, v in zip(gaps, vertical) if not v]
+    assert table and stop
+    assert all(p.kt == pytest.approx(3.0e7, rel=1e-15) and p.mu1 == p.mu2 == 0.15 for p in table)
+    assert all(p.kt == p.mu1 == p.mu2 == 0.0 for p in stop)      # the radial stop is frictionless
     assert "PGAP KT (stick)" in (tmp_path / "JAR_penalty.bdf").read_text()
     with pytest.raises(DeckbridgeError, match="contact.tangential = friction") as exc:
         write_mystran(model, mesh, tmp_path)

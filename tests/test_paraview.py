@@ -224,26 +224,46 @@ def test_ccx_series_lists_every_increment_ccx_printed(ccx_job, deck):
 
 
 @needs_ccx
-def test_ccx_series_carries_frd_stress_when_the_deck_asks(tmp_path):
-    """With ``*EL FILE S`` added to the penalty deck, the .frd's nodal stresses reach the VTU in Voigt
-    order: at step 1 (N alone) sigma_zz at mid-height is the membrane stress -N / (layer volume / h)
-    within 1 %, and the other components are below 1e-3 of it."""
-    from deckbridge.external.ccx_run import run
+def test_ccx_series_carries_frd_stress(tmp_path):
+    """The decks write ``*EL FILE`` S, so the .frd's nodal stresses reach the VTU in Voigt order, as the
+    reference series' ``stress_nodal_pa``: at step 1 (N alone) sigma_zz at mid-height is the membrane
+    stress -N / (layer volume / h) within 1 %, the other components are below 1e-3 of it, and the von
+    Mises field is |sigma_zz| there."""
     from deckbridge.paraview_ccx import write_ccx_series
-    from deckbridge.render import calculix
+    from tests.ccx_job import ccx_penalty_job
 
     model = load(None, SMALL)
     mesh = build_mesh(model)
-    deck = next(p for p in calculix.write(model, mesh, tmp_path) if p.stem.endswith("penalty"))
-    text = deck.read_text()
-    heads = re.findall(r"^\*NODE FILE[^\n]*\n", text, re.M)
-    assert len(heads) == 2
-    deck.write_text(re.sub(r"^(\*NODE FILE[^\n]*\n)", r"*EL FILE\nS\n\1", text, flags=re.M))
-    run(deck, timeout_s=120)
-    paths = write_ccx_series(deck, model, tmp_path / "pv")
-    s = meshio.read(paths[1]).point_data["ccx_stress_nodal_pa"]
+    paths = write_ccx_series(ccx_penalty_job(model, tmp_path), model, tmp_path / "pv")
+    v = meshio.read(paths[1]).point_data
+    s = v["stress_nodal_pa"]
     mid = np.flatnonzero(np.isclose(mesh.nodes[:, 2], model.geometry.height / 2))
     h = model.geometry.height / mesh.n_z
     membrane = -model.loads.N / (hex_volumes(mesh.nodes[mesh.hexes]).sum() / mesh.n_z / h)
     np.testing.assert_allclose(s[mid, 2], membrane, rtol=0.01)
     assert np.abs(s[mid][:, [0, 1, 3, 4, 5]]).max() < 1e-3 * abs(membrane)
+    np.testing.assert_allclose(v["von_mises_nodal_pa"][mid], -s[mid, 2], rtol=2e-3)
+
+
+@needs_ccx
+def test_ccx_series_equal_in_si_and_mm(tmp_path):
+    """The same ccx penalty job written in SI and in mm gives the same series (issue 21 item 5): every point
+    field in SI units, to ccx's printed digits (1e-5 of the field's largest value)."""
+    from deckbridge.paraview_ccx import write_ccx_series
+    from tests.ccx_job import ccx_penalty_job
+
+    small = ["mesh.n_theta=12", "mesh.n_z=3", "mesh.n_r=1", "steps.increments=2"]
+    series = {}
+    for units in ("SI", "mm"):
+        model = load(None, small + [f"units={units}"])
+        paths = write_ccx_series(ccx_penalty_job(model, tmp_path / units), model, tmp_path / units / "pv")
+        series[units] = [meshio.read(p) for p in paths[1:]]
+    assert len(series["SI"]) == len(series["mm"]) == 3
+    for si, mm in zip(series["SI"], series["mm"]):
+        np.testing.assert_array_equal(si.points, mm.points)
+        assert set(si.point_data) == set(mm.point_data) and "stress_nodal_pa" in si.point_data
+        for name, a in si.point_data.items():
+            scale = max(float(np.nanmax(np.abs(a))), 1e-300)
+            np.testing.assert_allclose(mm.point_data[name], a, rtol=0, atol=1e-5 * scale, err_msg=name)
+    u = series["SI"][-1].point_data["displacement_m"]
+    assert 1e-5 < np.abs(u).max() < 1e-1          # metres, not millimetres

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from deckbridge.job import run_job
+from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
 
@@ -78,3 +79,76 @@ def test_both_methods_match_linear_ccx_past_liftoff_with_distributing_top(tmp_pa
         err = _errors(tmp_path, model, ref_method, ccx_method)
         assert max(err.values()) < 0.02, (ccx_method, err)
         assert err[1.0] < 0.02
+
+
+@pytest.mark.parametrize("geometry", [
+    ["geometry.radius=1.2", "geometry.height=1.5", "geometry.thickness=0.006"],    # t/R = 0.005
+    ["geometry.radius=1.2", "geometry.height=1.5", "geometry.thickness=0.036"],    # t/R = 0.03
+    ["geometry.radius=1.3", "geometry.height=1.5", "geometry.thickness=0.015"],    # issue 21.4's skirt
+], ids=["t_R_0.005", "t_R_0.03", "R1.3_t15mm"])
+def test_ccx_penalty_inside_the_small_strain_range_off_the_default_geometry(tmp_path, geometry):
+    """Issue 21.3 / 21.4: on thin and thick walls and on another skirt, the CalculiX penalty deck converges
+    through liftoff, finds every table node (none penetrates without force) and equals the reference penalty
+    node by node to 2 % of the peak at every increment whose lift / R <= 0.01 (read from the reference
+    Solution's gaps); the increments past liftoff inside that range are compared too. lambda_max stays below
+    the tipping load N (R + t/2) / (M + T H) of a compression-only base, past which no deck can converge
+    (R = 1.2 m, t = 12 mm: 0.987; ccx stopped at 0.985 and the reference did not settle)."""
+    from deckbridge.quantities import free_penetration
+    from deckbridge.solve import condense_model, solve_system
+    from tests.ccx_job import ccx_penalty_job
+
+    model = load(None, ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", "steps.lambda_max=0.7",
+                        "steps.increments=7", *geometry])
+    g, ld = model.geometry, model.loads
+    assert model.steps.lambda_max < ld.N * (g.radius + g.thickness / 2) / model.base_moment
+    mesh, system = condense_model(model)
+    ref, _, sol = solve_system(model, mesh, system, "penalty")
+    table = system.problem.contact_surface == "table"
+    ccx = read(ccx_penalty_job(model, tmp_path).with_suffix(".frd"), fmt="calculix", model=model)
+    assert sorted(set(ccx.load_factor.round(6))) == sorted(set(ref.load_factor.round(6)))   # converged to the end
+    compared_past_liftoff = 0
+    for k, lam in enumerate(sol.load_factor):
+        lift = float(np.max(sol.gap[k, table], initial=0.0)) / (g.radius + g.thickness / 2)
+        step = int(sol.step[k])
+        if lift > 0.01 or (step == 2 and lam == 0.0):      # ccx's step 2 starts at its first increment
+            continue
+        r = ref[(ref.step == step) & np.isclose(ref.load_factor, lam) & (ref.surface == "table")]
+        c = ccx[(ccx.step == step) & np.isclose(ccx.load_factor, lam) & (ccx.surface == "table")]
+        j = r.merge(c, on="node", suffixes=("_r", "_c"))
+        assert len(j) == len(r) == 2 * model.mesh.n_theta
+        peak = np.abs(j.sigma_n_pa_r).max()
+        assert np.abs(j.sigma_n_pa_r - j.sigma_n_pa_c).max() < 0.02 * peak, lam
+        assert not free_penetration(c)["free_penetration_warn"], lam
+        compared_past_liftoff += int((r.status == "open").any())
+    assert compared_past_liftoff >= 1
+
+
+def test_a_load_path_past_tipping_is_named(tmp_path):
+    """Issue 21.3's skirt (R 1.2 m, H 1.5 m, t 12 mm) under the default loads tips over at
+    lambda = N (R + t/2) / (M + T H) = 2.7e6 x 1.206 / (3e6 + 2e5 x 1.5) = 0.98673 (a compression-only base:
+    the contact resultant cannot pass the outer edge). A solve to lambda_max = 1 fails with one line that
+    names steps.lambda_max and that load factor; the ccx decks say it in their header; at lambda_max 0.95 neither."""
+    from click.testing import CliRunner
+
+    from deckbridge.cli import main
+    from deckbridge.render import calculix
+
+    tip = 2.7e6 * (1.2 + 0.006) / (3.0e6 + 2.0e5 * 1.5)
+    base = ["geometry.radius=1.2", "geometry.height=1.5", "geometry.thickness=0.012", "mesh.n_theta=24",
+            "mesh.n_z=4", "mesh.n_r=1"]
+    args = [a for kv in base for a in ("--set", kv)]
+    res = CliRunner().invoke(main, ["solve", *args, "--method", "penalty", "-o", str(tmp_path / "s")])
+    assert res.exit_code != 0 and not (tmp_path / "s").exists()
+    line = res.output.strip().splitlines()[-1]
+    assert "steps.lambda_max = 1 is past the tipping load" in line and f"= {tip:.4g}:" in line
+    model = load(None, base)
+    assert model.tipping_load_factor() == pytest.approx(tip, rel=1e-12)
+    (tmp_path / "d").mkdir()
+    deck = calculix.write(model, build_mesh(model), tmp_path / "d")[0].read_text()
+    assert "** WARNING: steps.lambda_max = 1.000000000000e+00 is past the tipping load" in deck
+    ok = load(None, base + ["steps.lambda_max=0.95"])
+    (tmp_path / "e").mkdir()
+    assert "tipping" not in calculix.write(ok, build_mesh(ok), tmp_path / "e")[0].read_text()
+    res = CliRunner().invoke(main, ["solve", *args, "--set", "steps.lambda_max=0.95", "--method", "penalty",
+                                    "-o", str(tmp_path / "t")])
+    assert res.exit_code == 0 and "tipping load" not in res.output

@@ -13,8 +13,13 @@ from ._common import main, model_options
 @click.option("--dialect", "dialects", multiple=True,
               help=f"Only these dialects ({', '.join(names())}); default all.")
 def decks_cmd(model, outdir, dialects):
-    """Write the solver decks of MODEL (every dialect of deckbridge.dialects, or those of --dialect)."""
+    """Write the solver decks of MODEL (every dialect of deckbridge.dialects, or those of --dialect).
+
+    Without --dialect a dialect that cannot carry the model is left out with a note (as ``run`` does); a
+    dialect named with --dialect that cannot is an error.
+    """
     from ..render import render_all          # jinja2: imported by the commands that render only
 
-    for path in render_all(model, outdir, list(dialects) or None):
+    skip = None if dialects else (lambda exc: click.echo(exc.note()))
+    for path in render_all(model, outdir, list(dialects) or None, on_unsupported=skip):
         click.echo(f"wrote {path}")

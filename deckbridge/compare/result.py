@@ -1,9 +1,14 @@
 """Comparison of several sources at matching load factors: :func:`compare_tables` -> ComparisonResult.
 
 Default load factors: the end of step 1 (N only, lambda = 0), the first common load factor at or
-after the first liftoff of any source (the closest one when none is after it), and the end of
-step 2 (the smallest lambda_max of the sources). Requested load factors replace them; a source
-lacking one is interpolated linearly between its increments, or refused when outside its range.
+after the first liftoff of any source (the closest one when none is after it), the last common load
+factor inside the small-strain range (every source's lift / R <= :data:`~deckbridge.quantities.SMALL_STRAIN_LIFT`,
+issue 21) and the end of step 2 (the smallest lambda_max of the sources). The headline (:attr:`ComparisonResult.primary`)
+is the largest default point inside the small-strain range: past it a small-strain and a large-displacement
+analysis compare two idealisations, not two codes (REFERENCE.md §8); the post-liftoff points stay compared.
+The sweep's per-case comparisons (:func:`compare_series` with ``headline=False``) keep the other three points.
+Requested load factors replace the defaults (the headline is then the last); a source lacking one is
+interpolated linearly between its increments, or refused when outside its range.
 Pair differences are sigma_b - sigma_a, pairs taken in source order (a before b).
 """
 
@@ -40,6 +45,7 @@ class PointResult:
     skipped: list[str] = field(default_factory=list)
     node_peaks: dict[str, tuple[float, float] | None] = field(default_factory=dict)  # one node's (sigma_N, theta)
     extra: dict[str, dict] = field(default_factory=dict)    # per label: node values, wall sigma_zz, checks
+    headline: bool = False                      # the report leads with this point (see the module doc)
 
 
 @dataclass
@@ -66,8 +72,9 @@ class ComparisonResult:
 
     @property
     def primary(self) -> PointResult:
-        """The point the top-level summary and sigma_n.png describe: the last (largest) load factor."""
-        return self.points[-1]
+        """The point the top-level summary and the report lead with: the headline default point (the largest
+        inside the small-strain range), else the last (largest) load factor."""
+        return next((p for p in reversed(self.points) if p.headline), self.points[-1])
 
     def discrepancy(self) -> pd.DataFrame:
         """Per compared load factor and azimuth: sigma_N of each source and each pair's difference [Pa]."""
@@ -133,22 +140,36 @@ def _same(a: float, b: float) -> bool:
     return abs(a - b) <= LAMBDA_TOL * max(1.0, abs(a), abs(b))
 
 
-def default_load_factors(series: list[Series], liftoff: dict[str, float | None]) -> list[tuple[float, str]]:
-    """(lambda, why) of the default comparison points (see module doc)."""
+def _common_load_factors(step2: list[Series], lam_max: float) -> list[float]:
+    """The step-2 load factors in (0, lam_max] printed by every series of ``step2``, sorted."""
+    common = None
+    for s in step2:
+        lfs = {round(float(x), 9) for x in s.load_factors if 0.0 < x <= lam_max * (1 + LAMBDA_TOL)}
+        common = lfs if common is None else common & lfs
+    return sorted(common or [])
+
+
+def lift_over_radius(series: list[Series], lam: float) -> float | None:
+    """Largest lift / R at ``lam`` over the series with a printed state there (None: no source says)."""
+    vals = [Q.lift_over_radius(st.rows) for s in series
+            if (st := s.state_at(lam)) is not None and st.rows is not None and "gap_m" in st.rows]
+    return max(vals) if vals else None
+
+
+def default_load_factors(series: list[Series], liftoff: dict[str, float | None],
+                         headline: bool = True) -> list[tuple[float, str, bool]]:
+    """(lambda, why, headline) of the default comparison points (see module doc); ``headline`` False: no
+    small-strain point and no headline mark (the sweep's per-case comparisons keep their three points)."""
     pts: list[tuple[float, str]] = []
     if any(s.covers(0.0) for s in series):
         pts.append((0.0, "end of step 1 (N only)"))
     step2 = [s for s in series if s.lf_range[1] > LAMBDA_TOL]
     lam_max = min((s.lf_range[1] for s in step2), default=None)
     firsts = [v for v in liftoff.values() if v is not None]
+    cands = _common_load_factors(step2, lam_max) if lam_max is not None else []
     if lam_max is not None and firsts:
         first = min(firsts)
         if LAMBDA_TOL < first < lam_max and not _same(first, lam_max):
-            common = None
-            for s in step2:
-                lfs = {round(float(x), 9) for x in s.load_factors if 0.0 < x <= lam_max * (1 + LAMBDA_TOL)}
-                common = lfs if common is None else common & lfs
-            cands = sorted(common or [])
             after = [c for c in cands if c >= first - LAMBDA_TOL * max(1.0, first)]
             if after:
                 lam = after[0]
@@ -158,11 +179,39 @@ def default_load_factors(series: list[Series], liftoff: dict[str, float | None])
                 lam = first
             if not _same(lam, lam_max) and lam > LAMBDA_TOL:
                 pts.append((float(lam), f"first liftoff of any source (lambda = {first:.4g})"))
+    inside = [c for c in cands if headline and (v := lift_over_radius(series, c)) is not None
+              and v <= Q.SMALL_STRAIN_LIFT]
+    last_in = max(inside, default=None)
+    if last_in is not None and lam_max is not None and not _same(last_in, lam_max) \
+            and all(not _same(last_in, p) for p, _ in pts) and last_in > max((p for p, _ in pts), default=0.0):
+        pts.append((float(last_in), f"last common load factor with lift/R <= {Q.SMALL_STRAIN_LIFT:g}"))
     if lam_max is not None:
         pts.append((float(lam_max), "end of step 2 (lambda_max)"))
     if not pts:
         raise DeckbridgeError("the sources share no load factor to compare at")
-    return pts
+    return _headline(series, pts) if headline else [(lam, what, False) for lam, what in pts]
+
+
+def _headline(series: list[Series], pts: list[tuple[float, str]]) -> list[tuple[float, str, bool]]:
+    """Mark the largest point inside the small-strain range as the headline and say why in its text (none
+    marked when no source gives gaps, or when the only ones inside are lambda = 0 and a later one exists)."""
+    lift = [lift_over_radius(series, lam) for lam, _ in pts]
+    if all(v is None for v in lift):
+        return [(lam, what, False) for lam, what in pts]
+    ok = [k for k, v in enumerate(lift) if v is not None and v <= Q.SMALL_STRAIN_LIFT and pts[k][0] > LAMBDA_TOL]
+    lim = Q.SMALL_STRAIN_LIFT
+    if not ok:
+        k = len(pts) - 1
+        why = (f"; leads the report although past the small-strain range (lift/R = {lift[k]:.3g} > {lim:g}): "
+               "no compared load factor after step 1 is inside it") if lift[k] is not None else ""
+    else:
+        k = ok[-1]
+        later = [(pts[j][0], lift[j]) for j in range(k + 1, len(pts)) if lift[j] is not None]
+        why = (f"; the report leads with it: largest compared load factor inside the small-strain range "
+               f"(lift/R = {lift[k]:.3g} <= {lim:g})"
+               + (f"; past it (lambda {later[-1][0]:.4g}: lift/R = {later[-1][1]:.3g}) a small-strain and a "
+                  "large-displacement analysis compare idealisations, not codes" if later else ""))
+    return [(lam, what + (why if j == k else ""), j == k) for j, (lam, what) in enumerate(pts)]
 
 
 def compare_at(series: list[Series], lam: float, what: str, strict: bool, records: dict | None = None) -> PointResult:
@@ -200,7 +249,8 @@ def compare_at(series: list[Series], lam: float, what: str, strict: bool, record
 def state_quantities(rows, record: SourceResult | None, st) -> dict:
     """Per-state quantities of one source (definitions in :mod:`deckbridge.quantities`)."""
     nodes = Q.sigma_n_nodes(rows)
-    out = {"lifted_arc_deg": Q.lifted_arc_deg(rows), **Q.open_tension(rows), **Q.free_penetration(rows),
+    out = {"lifted_arc_deg": Q.lifted_arc_deg(rows), "lift_over_radius": Q.lift_over_radius(rows),
+           **Q.open_tension(rows), **Q.free_penetration(rows),
            "contact_resultant_n": -Q.contact_resultant(rows),
            "sigma_n_nodes_pa": {"theta_deg": nodes.index.tolist(),
                                 **{c: nodes[c].tolist() for c in ("inner", "mid", "outer")}}}
@@ -218,9 +268,10 @@ def state_quantities(rows, record: SourceResult | None, st) -> dict:
 
 
 def compare_series(series: list[Series], load_factors: list[float] | None = None,
-                   records: dict[str, SourceResult] | None = None) -> ComparisonResult:
+                   records: dict[str, SourceResult] | None = None, headline: bool = False) -> ComparisonResult:
     """Compare built series at the requested (or default) load factors; ``records``: label -> the
-    source record (its solver summary gives the exact onsets, its wall table sigma_zz)."""
+    source record (its solver summary gives the exact onsets, its wall table sigma_zz); ``headline``: add
+    the small-strain point and lead with it (:func:`compare_tables`, the report's comparisons)."""
     if not series:
         raise DeckbridgeError("nothing to compare: no source given")
     records = records or {}
@@ -228,12 +279,16 @@ def compare_series(series: list[Series], load_factors: list[float] | None = None
     liftoff = {lab: best(o["first_node"]) for lab, o in ons.items()}
     requested = sorted(set(float(x) for x in np.atleast_1d(load_factors))) if load_factors is not None else []
     if requested:
-        pts = [(lam, "requested") for lam in requested]
+        pts = [(lam, "requested", False) for lam in requested]
         strict = True
     else:
-        pts = default_load_factors(series, liftoff)
+        pts = default_load_factors(series, liftoff, headline)
         strict = False
-    points = [compare_at(series, lam, what, strict, records) for lam, what in pts]
+    points = []
+    for lam, what, head in pts:
+        pt = compare_at(series, lam, what, strict, records)
+        pt.headline = head
+        points.append(pt)
     points = [p for p in points if p.labels]
     return ComparisonResult(series, points, ons, dict(records))
 
@@ -259,4 +314,5 @@ def compare_tables(tables: list, load_factors=None, origins=None, surface: str =
         by_origin.setdefault(r.origin, r)
     if sum(r.origin is None for r in records) > 1:
         by_origin.pop(None, None)          # several records without origin: no way to tell them apart
-    return compare_series(series, load_factors, {s.label: by_origin[s.origin] for s in series if s.origin in by_origin})
+    return compare_series(series, load_factors, {s.label: by_origin[s.origin] for s in series if s.origin in by_origin},
+                          headline=True)

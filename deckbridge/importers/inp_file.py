@@ -12,31 +12,21 @@ from .raw import RawMesh
 
 
 def _nsets(text: str) -> dict:
+    from ..readers.inp_mesh import keyword_blocks
     sets: dict[str, list[int]] = {}
-    name, generate = None, False
-    for raw in text.splitlines():
-        line = raw.strip()
-        if not line or line.startswith("**"):
+    for key, opts, data in keyword_blocks(text):
+        if key != "NSET":
             continue
-        if line.startswith("*"):
-            head = [p.strip() for p in line[1:].split(",")]
-            name = None
-            if head[0].upper() == "NSET":
-                opts = {p.split("=", 1)[0].strip().upper(): (p.split("=", 1)[1].strip() if "=" in p else "")
-                        for p in head[1:]}
-                name = opts.get("NSET")
-                generate = "GENERATE" in opts
-                sets.setdefault(name, [])
-            continue
-        if name is None:
-            continue
-        vals = [v.strip() for v in line.split(",") if v.strip()]
-        if generate:
-            a, b, *st = (int(v) for v in vals)
-            sets[name] += list(range(a, b + 1, st[0] if st else 1))
-        else:
-            for v in vals:   # a member may be another set's name
-                sets[name] += sets.get(v, []) if not v.lstrip("-").isdigit() else [int(v)]
+        name, generate = opts.get("NSET"), "GENERATE" in opts
+        sets.setdefault(name, [])
+        for line in data:
+            vals = [v.strip() for v in line.split(",") if v.strip()]
+            if generate:
+                a, b, *st = (int(v) for v in vals)
+                sets[name] += list(range(a, b + 1, st[0] if st else 1))
+            else:
+                for v in vals:   # a member may be another set's name
+                    sets[name] += sets.get(v, []) if not v.lstrip("-").isdigit() else [int(v)]
     return {k: np.array(v, np.int64) for k, v in sets.items()}
 
 

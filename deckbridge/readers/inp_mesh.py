@@ -59,3 +59,41 @@ def read_inp_mesh(path) -> InpMesh:
     return InpMesh(node_ids=np.array(ids, dtype=np.int64), nodes=np.array(xyz, float).reshape(-1, 3),
                    elements={t: (np.array(i, dtype=np.int64), np.array(c, dtype=np.int64)) for t, (i, c) in
                              elems.items()})
+
+
+def keyword_blocks(text: str):
+    """``(keyword, options, data lines)`` of every card of an Abaqus/CalculiX deck, in order: keyword upper
+    case without ``*``, options {NAME upper: value ('' for a flag)}, data lines stripped (comments dropped)."""
+    blocks: list = []
+    for raw in text.splitlines():
+        line = raw.strip()
+        if not line or line.startswith("**"):
+            continue
+        if line.startswith("*"):
+            head = [p.strip() for p in line[1:].split(",")]
+            opts = {p.split("=", 1)[0].strip().upper(): (p.split("=", 1)[1].strip() if "=" in p else "")
+                    for p in head[1:] if p}
+            blocks.append((head[0].upper(), opts, []))
+        elif blocks:
+            blocks[-1][2].append(line)
+    return blocks
+
+
+def contact_friction(path) -> list[tuple[str, str, float]]:
+    """``(slave surface, master surface, friction coefficient of the interaction)`` of every ``*CONTACT PAIR``
+    line of a deck, read back (0 where the interaction has no ``*FRICTION``)."""
+    mu: dict[str, float] = {}
+    pairs: list[tuple[str, str, str]] = []
+    current = None
+    for key, opts, data in keyword_blocks(read_text(path)):
+        if key == "SURFACE INTERACTION":
+            current = opts.get("NAME", "").upper()
+            mu[current] = 0.0
+        elif key == "FRICTION" and current is not None:
+            mu[current] = float(data[0].split(",")[0]) if data else 0.0
+        elif key != "SURFACE BEHAVIOR":
+            current = None
+        if key == "CONTACT PAIR":
+            pairs += [(*(f.strip().upper() for f in d.split(",")[:2]), opts.get("INTERACTION", "").upper())
+                      for d in data]
+    return [(slave, master, mu.get(inter, 0.0)) for slave, master, inter in pairs]

@@ -6,7 +6,8 @@ pressure. Masters are element-based surfaces of fixed C3D8 rings (see :mod:`deck
 them as master surfaces without a rigid-body definition, and the same geometry serves the CalculiX
 mortar deck. ``*CONTACT PAIR, TYPE=NODE TO SURFACE`` per pair, ``*SURFACE BEHAVIOR,
 PRESSURE-OVERCLOSURE=HARD, DIRECT`` (Lagrange multipliers, written explicitly: the enforcement default
-depends on the pair type) and ``*FRICTION`` = contact.friction (``LAGRANGE`` stick when mu > 0).
+depends on the pair type) and ``*FRICTION`` = contact.friction on the table pair (``LAGRANGE`` stick when
+mu > 0), 0 on the stop pair (the radial stop is frictionless, as in the reference solver).
 
 Rest as in the CalculiX decks: C3D8I skirt, circumferential SPRING1 per table node (cylindrical
 ``*ORIENTATION``, local dof 2, mesh.k_tangent), ``*COUPLING`` + ``*DISTRIBUTING`` (uniform weighting, i.e.
@@ -37,19 +38,21 @@ def context(model: Model, mesh: SkirtMesh) -> dict:
     u = scale(model.units)
     lay = layout(model, mesh, masters=("table", "stop"))
     rings = [r for r in (lay.table_master, lay.stop_master) if r is not None]
-    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table, mesh, u.length),
-              "master": face_lines(lay.table_master.elem_ids, lay.table_master.face)}]
-    if lay.stop_master is not None:
-        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop, mesh, u.length),
-                      "master": face_lines(lay.stop_master.elem_ids, lay.stop_master.face)})
     mu = model.contact.friction
+    pairs = [{"name": "TABLE", "slave": _node_surface(mesh.table, mesh, u.length),
+              "master": face_lines(lay.table_master.elem_ids, lay.table_master.face),
+              "friction": real(mu), "lagrange_friction": mu > 0}]
+    if lay.stop_master is not None:     # the radial stop is frictionless (docs/friction.md)
+        pairs.append({"name": "STOP", "slave": _node_surface(mesh.stop, mesh, u.length),
+                      "master": face_lines(lay.stop_master.elem_ids, lay.stop_master.face),
+                      "friction": real(0.0), "lagrange_friction": False})
     return {
         **shared_context(model, lay),
         **node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                      [("NMASTER", np.concatenate([r.node_ids for r in rings]),
                        np.vstack([r.nodes for r in rings]))], u.length, mesh.node_ids),
         "master_elems": "\n".join(element_lines(r.elem_ids, r.conn) for r in rings),
-        "pairs": pairs, "friction": real(mu), "lagrange_friction": mu > 0,
+        "pairs": pairs,
     }
 
 

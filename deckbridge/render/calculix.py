@@ -82,7 +82,17 @@ def _common(model: Model, lay: Layout, method: str) -> dict:
         "field_controls": f"{real(RESIDUAL_TOL)}, {real(CORRECTION_TOL)}, , , {real(RESIDUAL_TOL)}",
         "meta": _meta_lines(model, mesh, method),
         "next_elem": lay.first_gap_elem,
+        "tipping": _tipping_note(model),
     }
+
+
+def _tipping_note(model: Model) -> str:
+    """The header's warning when steps.lambda_max is at or past :meth:`Model.tipping_load_factor`, else ''."""
+    tip, lam = model.tipping_load_factor(), model.steps.lambda_max
+    if tip is None or lam < tip:
+        return ""
+    return (f"steps.lambda_max = {real(lam)} is past the tipping load of a compression-only base, lambda = "
+            f"N (R + t/2) / (M + T H) = {real(tip)}: no equilibrium beyond it, ccx stops near it")
 
 
 def _meta_lines(model: Model, mesh: SkirtMesh, method: str) -> list[str]:

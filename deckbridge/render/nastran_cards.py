@@ -111,20 +111,22 @@ def add_gaps(b: Bulk, model: Model, mesh: SkirtMesh, u: Units) -> None:
 
     X1-X3 in GA's CD (cylindrical): (1, 0, 0) = radial for the vertical table gaps, (0, 0, 1) = z
     for the radial stop gaps. PGAP: U0 = clearance, F0 = 0, KA = k_c, KB = open_ratio * KA,
-    KT = 0 with the circumferential springs (they carry T; KT would add a second mechanism) or
-    the node's k_t with ``contact.tangential = friction``; MU1 = MU2 = friction; TMAX = 0 (no
-    adaptive penalty), MAR = 100, TRMIN = 0.001.
+    table gaps: KT = 0 with the circumferential springs (they carry T; KT would add a second
+    mechanism) or the node's k_t with ``contact.tangential = friction``, MU1 = MU2 = friction;
+    stop gaps: KT = MU1 = MU2 = 0 (the radial stop is frictionless, as in the reference solver and
+    every other deck); TMAX = 0 (no adaptive penalty), MAR = 100, TRMIN = 0.001.
     """
     lay = gap_layout(mesh)
-    mu = float(model.contact.friction)
     friction = tangential(model) == "friction"
     for i in range(len(lay)):
         eid = int(lay.eid[i])
-        x = X_TABLE if abs(lay.axis[i][2]) > 0.5 else X_STOP
+        table = lay.surface[i] == "table"
+        x = X_TABLE if table else X_STOP
         b.put("gaps", b.bdf.add_cgap(eid, pid=eid, nids=[int(lay.node[i]), int(lay.ground[i])],
                                      x=list(x), g0=None, cid=None))
         ka = float(lay.k[i]) * u.stiffness
-        kt = float(lay.k_t[i]) * u.stiffness if friction else 0.0
+        mu = float(model.contact.friction) if table else 0.0
+        kt = float(lay.k_t[i]) * u.stiffness if friction and table else 0.0
         b.put("gaps", b.bdf.add_pgap(eid, u0=float(lay.u0[i]) * u.length, f0=0.0, ka=ka,
                                      kb=mesh.k_open_ratio * ka, kt=kt, mu1=mu, mu2=mu, tmax=0.0,
                                      mar=100.0, trmin=0.001))

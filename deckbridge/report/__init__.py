@@ -77,7 +77,7 @@ def write_report(result: ComparisonResult, outdir, model=None, extra: dict | Non
     names = ["report.html", "sigma_n.png", "discrepancy.csv", "summary.json"]
     with staged(outdir) as stage:
         (stage / "report.html").write_text(text, encoding="utf-8")
-        (stage / "sigma_n.png").write_bytes(figures[-1])
+        (stage / "sigma_n.png").write_bytes(figures[result.points.index(result.primary)])   # the headline
         result.discrepancy().to_csv(stage / "discrepancy.csv", index=False, float_format="%.9g")
         (stage / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
     return [Path(outdir) / n for n in names]

@@ -17,8 +17,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from .. import quantities as Q
+
 REFERENCE_ANALYSIS = {"nlgeom": False, "element": "C3D8I", "units": "SI"}
-SMALL_STRAIN = {"lift_over_radius": 0.01, "rotation_rad": 0.01}   # flag above these
+SMALL_STRAIN = {"lift_over_radius": Q.SMALL_STRAIN_LIFT, "rotation_rad": 0.01}   # flag above these
 
 
 def _deck_of(origin) -> Path | None:

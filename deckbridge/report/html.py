@@ -98,8 +98,8 @@ def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dic
         pct = (gb["max_von_mises_pa"] - ga["max_von_mises_pa"]) / ga["max_von_mises_pa"] * 100
         pair = {"a": la, "b": lb, "pct": pct}
     return env().get_template("comparison.html.j2").render(
-        ver=deckbridge_version(), primary=_point(result.primary, figures[-1]), points=points, sources=sources,
-        source_head=SOURCE_HEAD,
+        ver=deckbridge_version(), primary=_point(result.primary, figures[result.points.index(result.primary)]),
+        points=points, sources=sources, source_head=SOURCE_HEAD,
         model_rows=None if model is None else model_rows(model), global_rows=rows, von_mises_pair=pair,
         global_png=global_png, notes=list(notes or []), path_pngs=list(path_pngs or []),
         banners=list(banners or []), caveats=list(caveats or []), friction_pngs=list(friction_pngs or []),
