@@ -4,21 +4,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from .raw import HEX8
+from .raw import HEX8, is_solid, solid_shape
 
 LATER = "tetrahedral and quadratic meshes are a later issue (deckbridge takes 8-node hexahedra)"
 
 
 def hex8_only(raw, key: str = "mesh.file"):
-    """(element ids, connectivity of node ids) of the 8-node hexahedra; any other type is refused."""
+    """(element ids, connectivity of node ids) of the 8-node hexahedra. Elements that are not solids
+    (the 2D skin of physical groups Gmsh writes, CPS4 / S4 / CQUAD4, beams, springs) are ignored: their
+    nodes are solid nodes and they may define the node sets. Any other solid type is refused, named."""
     from ..model import ModelError
-    other = {t: len(i) for t, (i, c) in raw.elements.items() if t.upper() not in HEX8 or c.shape[1] != 8}
+    solids = {t: (i, c) for t, (i, c) in raw.elements.items() if is_solid(t)}
+    other = {t: (len(i), c.shape[1]) for t, (i, c) in solids.items() if t.upper() not in HEX8 or c.shape[1] != 8}
     if other:
-        t, n = next(iter(other.items()))
-        raise ModelError(key, raw.path, f"{n} elements of type {t}: {LATER}")
-    hexes = [(i, c) for t, (i, c) in raw.elements.items()]
+        t, (n, k) = next(iter(other.items()))
+        raise ModelError(key, raw.path, f"{n} elements of type {t}: {solid_shape(k)}; {LATER}")
+    hexes = list(solids.values())
     if not hexes:
-        raise ModelError(key, raw.path, "no 8-node hexahedra in the file")
+        skin = ", ".join(sorted(raw.elements)) or "none"
+        raise ModelError(key, raw.path, f"no 8-node hexahedra in the file (elements found: {skin})")
     ids = np.concatenate([i for i, _ in hexes])
     conn = np.vstack([c for _, c in hexes])
     u, cnt = np.unique(ids, return_counts=True)

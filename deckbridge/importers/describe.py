@@ -1,8 +1,10 @@
 """The model of an imported mesh: geometry measured on the mesh, import keys, checked by meshing it.
 
 Geometry written into the model (used by beam theory, the master rings of the inp decks and the
-report): mid-wall radius = (r_min + r_max) / 2 and thickness = r_max - r_min of the base nodes, height
-= top plane - base plane, ``top_radius`` when the top's mid-wall radius differs (a cone) [m].
+report): mid-wall radius = (r_inner + r_outer) / 2 and thickness = r_outer - r_inner of the base faces'
+inner and outer rings (each the mean radius of the ring's nodes, :func:`.measure.rings`: a file's limited
+precision averages out), height = top plane - base plane, ``top_radius`` when the top's mid-wall radius
+differs (a cone) [m].
 """
 
 from __future__ import annotations
@@ -11,6 +13,8 @@ import os
 from pathlib import Path
 
 import numpy as np
+
+from .measure import rings
 
 
 def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top: str, stop: str | None = None,
@@ -30,13 +34,12 @@ def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top
     data["contact"]["stop"]["side"] = "inner" if stop is None else data["contact"]["stop"]["side"]
     model = Model.from_dict(apply_overrides(data, overrides or []))
     mesh = build_mesh(model)          # every import check; geometry below from the checked mesh
-    r = np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])
-    rb, rt = r[mesh.table.nodes], r[mesh.top_nodes]
+    rb = rings(mesh.nodes, mesh.hexes[mesh.base_elems, :4])
+    rt = rings(mesh.nodes, mesh.hexes[mesh.top_elems, 4:])
     zt = float(np.mean(mesh.nodes[mesh.top_nodes, 2]))
     rnd = lambda x: float(f"{x:.12g}")  # noqa: E731
-    geo = {"radius": rnd((rb.min() + rb.max()) / 2), "thickness": rnd(rb.max() - rb.min()), "height": rnd(zt),
-           "top_radius": None}
-    r_top = rnd((rt.min() + rt.max()) / 2)
+    geo = {"radius": rnd(rb.mid_radius), "thickness": rnd(rb.thickness), "height": rnd(zt), "top_radius": None}
+    r_top = rnd(rt.mid_radius)
     if abs(r_top - geo["radius"]) > 1e-6 * geo["radius"]:
         geo["top_radius"] = r_top
     data = model.to_dict()

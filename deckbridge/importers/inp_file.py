@@ -1,6 +1,7 @@
 """Abaqus/CalculiX ``.inp`` mesh: nodes and elements through :func:`deckbridge.readers.inp_mesh.read_inp_mesh`
-(meshio 5.3 keeps only the last ``*NODE`` block), node sets from ``*NSET`` (lists or GENERATE) and
-``*ELSET``-free ``*SURFACE``-free files."""
+(meshio 5.3 keeps only the last ``*NODE`` block), node sets from ``*NSET`` (lists or GENERATE), and from element sets of skin elements (``*ELSET`` or
+``*ELEMENT, ELSET=``: the nodes of their 2D elements, e.g. the CPS4 faces Gmsh writes for a physical
+group) under a name no ``*NSET`` uses."""
 
 from __future__ import annotations
 
@@ -8,10 +9,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .raw import RawMesh
+from .raw import RawMesh, is_solid
 
 
-def _nsets(text: str) -> dict:
+def _nsets(text: str, kind: str = "NSET") -> dict:
+    """Sets of ``*NSET`` (``kind`` 'NSET') or ``*ELSET`` (``kind`` 'ELSET'): name -> ids."""
     sets: dict[str, list[int]] = {}
     name, generate = None, False
     for raw in text.splitlines():
@@ -21,12 +23,14 @@ def _nsets(text: str) -> dict:
         if line.startswith("*"):
             head = [p.strip() for p in line[1:].split(",")]
             name = None
-            if head[0].upper() == "NSET":
+            card = head[0].upper()
+            if card == kind:
                 opts = {p.split("=", 1)[0].strip().upper(): (p.split("=", 1)[1].strip() if "=" in p else "")
                         for p in head[1:]}
-                name = opts.get("NSET")
+                name = opts.get(kind)
                 generate = "GENERATE" in opts
-                sets.setdefault(name, [])
+                if name is not None:
+                    sets.setdefault(name, [])
             continue
         if name is None:
             continue
@@ -40,8 +44,26 @@ def _nsets(text: str) -> dict:
     return {k: np.array(v, np.int64) for k, v in sets.items()}
 
 
+def _element_node_sets(elsets: dict, elements: dict) -> dict:
+    """Node sets (name -> node ids) of element sets of skin elements: the nodes of their non-solid
+    elements (element sets of solids are not node sets)."""
+    skin = {t: v for t, v in elements.items() if not is_solid(t)}
+    ids = np.concatenate([i for i, _ in skin.values()]) if skin else np.zeros(0, np.int64)
+    nodes_of = dict(zip(ids.tolist(), [row for _, c in skin.values() for row in c]))
+    out = {}
+    for name, members in elsets.items():
+        rows = [nodes_of[int(e)] for e in members if int(e) in nodes_of]
+        if rows:
+            out[name] = np.unique(np.concatenate(rows))
+    return out
+
+
 def read_inp(path: Path) -> RawMesh:
     from ..readers.inp_mesh import read_inp_mesh
     m = read_inp_mesh(path)
-    return RawMesh(path=str(path), node_ids=m.node_ids, nodes=m.nodes, elements=dict(m.elements),
-                   sets=_nsets(Path(path).read_text(errors="replace")))
+    text = Path(path).read_text(errors="replace")
+    elsets = _nsets(text, "ELSET")
+    for name, ids in m.elsets.items():
+        elsets[name] = np.concatenate([elsets.get(name, np.zeros(0, np.int64)), ids])
+    sets = {**_element_node_sets(elsets, m.elements), **_nsets(text)}
+    return RawMesh(path=str(path), node_ids=m.node_ids, nodes=m.nodes, elements=dict(m.elements), sets=sets)
