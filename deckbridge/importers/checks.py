@@ -31,6 +31,20 @@ def hex8_only(raw, key: str = "mesh.file"):
     return ids, conn
 
 
+def ids_in_range(raw, elem_ids, key: str = "mesh.file") -> None:
+    """Node and element ids positive and within the largest id some dialect carries
+    (:attr:`deckbridge.dialects.Dialect.max_id`; a dialect whose fields are narrower is left out at render)."""
+    from ..dialects import DIALECTS
+    from ..model import ModelError
+    top = max(d.max_id for d in DIALECTS.values())
+    for what, ids in (("node", np.asarray(raw.node_ids)), ("element", np.asarray(elem_ids))):
+        bad = ids[(ids < 1) | (ids > top)]
+        if bad.size:
+            fits = ", ".join(f"{d.name} {d.max_id}" for d in DIALECTS.values())
+            raise ModelError(key, raw.path, f"{what} id {int(bad[0])}: ids must lie in 1..{top} to be written "
+                             f"to a deck (largest id per dialect: {fits}): renumber the mesh")
+
+
 def nodes_unique_and_used(raw, conn_ids: np.ndarray, size: float, key: str = "mesh.file") -> None:
     """Duplicate node ids, coincident nodes (unmerged), nodes no element uses, elements on unknown nodes."""
     from ..model import ModelError

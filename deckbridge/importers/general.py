@@ -80,6 +80,7 @@ def imported_mesh(model) -> SkirtMesh:
     ms = model.mesh
     raw = read_mesh_file(ms.file)
     elem_ids, conn_ids = checks.hex8_only(raw)
+    checks.ids_in_range(raw, elem_ids)
     unit = MESH_UNITS[ms.units]
     axis = None if ms.axis is None else (*(unit * np.array(ms.axis[:3])), *ms.axis[3:])
     raw.nodes = _to_skirt_frame(np.asarray(raw.nodes, float) * unit, axis)
