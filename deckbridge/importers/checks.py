@@ -45,6 +45,30 @@ def ids_in_range(raw, elem_ids, key: str = "mesh.file") -> None:
                              f"to a deck (largest id per dialect: {fits}): renumber the mesh")
 
 
+def finite_coordinates(raw, key: str = "mesh.file") -> None:
+    """Every coordinate a finite number (a NaN or infinite one is named with its node and axis)."""
+    from ..model import ModelError
+    bad = ~np.isfinite(np.asarray(raw.nodes, float))
+    if bad.any():
+        i, a = np.argwhere(bad)[0]
+        raise ModelError(key, raw.path, f"node {int(raw.node_ids[i])}: coordinate {'xyz'[a]} = "
+                         f"{raw.nodes[i, a]!r} is not a finite number")
+
+
+def plausible_size(nodes, units: str, unit_m: dict, lo_hi: tuple, key: str = "mesh.units") -> None:
+    """The skirt's largest radius ``nodes`` (skirt frame, m) within ``lo_hi`` [m] for the declared
+    ``units``: outside it the unit is wrong (a mesh in mm declared m measures R = 1500 m); the message
+    gives the radius each unit of ``unit_m`` (name -> metres per unit) would give."""
+    from ..model import ModelError
+    r = float(np.hypot(nodes[:, 0], nodes[:, 1]).max())
+    lo, hi = lo_hi
+    if lo <= r <= hi:
+        return
+    alt = ", ".join(f"{u}: {r / unit_m[units] * f:.6g} m" for u, f in unit_m.items() if u != units)
+    raise ModelError(key, units, f"the mesh's largest radius is {r:.6g} m, outside {lo:g}..{hi:g} m for a skirt: "
+                     f"is the mesh in another unit? (mesh.units = {alt})")
+
+
 def nodes_unique_and_used(raw, conn_ids: np.ndarray, size: float, key: str = "mesh.file") -> None:
     """Duplicate node ids, coincident nodes (unmerged), nodes no element uses, elements on unknown nodes."""
     from ..model import ModelError

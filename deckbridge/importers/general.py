@@ -21,7 +21,7 @@ from ..mesh_data import SkirtMesh, _slave_set, hex_volumes, quad_nodal_areas
 from ..supports import pad_face_mask
 from . import checks, measure
 from .read import read_mesh_file
-from .spec import MESH_UNITS
+from .spec import MESH_UNITS, PLAUSIBLE_RADIUS_M
 
 CUBE = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                  [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]])
@@ -83,7 +83,9 @@ def imported_mesh(model) -> SkirtMesh:
     checks.ids_in_range(raw, elem_ids)
     unit = MESH_UNITS[ms.units]
     axis = None if ms.axis is None else (*(unit * np.array(ms.axis[:3])), *ms.axis[3:])
+    checks.finite_coordinates(raw)
     raw.nodes = _to_skirt_frame(np.asarray(raw.nodes, float) * unit, axis)
+    checks.plausible_size(raw.nodes, ms.units, MESH_UNITS, PLAUSIBLE_RADIUS_M)
     size = float(np.ptp(raw.nodes, axis=0).max()) if raw.nodes.size else 1.0
     checks.nodes_unique_and_used(raw, conn_ids.ravel(), size)
     index_of = {int(n): i for i, n in enumerate(raw.node_ids)}
