@@ -76,6 +76,14 @@ def geometry_keys_given(text: str | None, overrides) -> set:
     return given
 
 
+def mesh_geometry(model, text: str | None, overrides):
+    """:func:`with_mesh_geometry` of a loaded ``model`` (its file's ``text``, None for the embedded default,
+    and the ``overrides``); ``model`` itself when it has no ``mesh.file``."""
+    if model.mesh.file is None:
+        return model
+    return with_mesh_geometry(model, geometry_keys_given(text, overrides))
+
+
 def with_mesh_geometry(model, given: set):
     """``model`` with ``geometry`` measured on its imported mesh (the imported mesh is the geometry: beam
     theory, the decks' master rings and the report use it). A key in ``given`` (set by the user) that
