@@ -1,20 +1,12 @@
-"""The model of an imported mesh: geometry measured on the mesh, import keys, checked by meshing it.
-
-Geometry written into the model (used by beam theory, the master rings of the inp decks and the
-report): mid-wall radius = (r_inner + r_outer) / 2 and thickness = r_outer - r_inner of the base faces'
-inner and outer rings (each the mean radius of the ring's nodes, :func:`.measure.rings`: a file's limited
-precision averages out), height = top plane - base plane, ``top_radius`` when the top's mid-wall radius
-differs (a cone) [m].
-"""
+"""The model of an imported mesh (``deckbridge import``): geometry measured on the mesh
+(:func:`.geometry.measured_geometry`), import keys, checked by meshing it."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-import numpy as np
-
-from .measure import rings
+from .geometry import measured_geometry
 
 
 def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top: str, stop: str | None = None,
@@ -40,76 +32,6 @@ def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top
     data["mesh"].update(n_theta=mesh.n_theta, n_z=mesh.n_z, n_r=mesh.n_r)   # measured; informative only
     model = Model.from_dict({**data, "mesh": {**data["mesh"], "file": str(mesh_path)}})
     return model, _yaml(data)
-
-
-def measured_geometry(mesh) -> dict:
-    """The ``geometry`` keys of an imported ``mesh`` measured on it [m] (module docstring)."""
-    rb = rings(mesh.nodes, mesh.hexes[mesh.base_elems, :4])
-    rt = rings(mesh.nodes, mesh.hexes[mesh.top_elems, 4:])
-    zt = float(np.mean(mesh.nodes[mesh.top_nodes, 2]))
-    rnd = lambda x: float(f"{x:.12g}")  # noqa: E731
-    geo = {"radius": rnd(rb.mid_radius), "thickness": rnd(rb.thickness), "height": rnd(zt), "top_radius": None}
-    r_top = rnd(rt.mid_radius)
-    if abs(r_top - geo["radius"]) > 1e-6 * geo["radius"]:
-        geo["top_radius"] = r_top
-    return geo
-
-
-GEOMETRY_REL_TOL = 1e-3   # a geometry key within this fraction of the mesh's value agrees with it
-
-
-def geometry_keys_given(text: str | None, overrides) -> set:
-    """The ``geometry`` keys the user gave: in the model file's ``text`` (None for the embedded default,
-    whose keys describe the default JAR, not a mesh) and in ``overrides`` (``--set`` strings or a mapping)."""
-    from .. import safe_yaml
-    from ..model import parse_override
-    given = set()
-    data = safe_yaml.load(text) if text is not None else None
-    if isinstance(data, dict) and isinstance(data.get("geometry"), dict):
-        given |= set(data["geometry"])
-    items = overrides.items() if isinstance(overrides, dict) else [parse_override(o) for o in overrides or []]
-    for key, value in items:
-        if key == "geometry" and isinstance(value, dict):
-            given |= set(value)
-        elif key.startswith("geometry."):
-            given.add(key.split(".", 1)[1])
-    return given
-
-
-def mesh_geometry(model, text: str | None, overrides):
-    """:func:`with_mesh_geometry` of a loaded ``model`` (its file's ``text``, None for the embedded default,
-    and the ``overrides``); ``model`` itself when it has no ``mesh.file``."""
-    if model.mesh.file is None:
-        return model
-    return with_mesh_geometry(model, geometry_keys_given(text, overrides))
-
-
-def with_mesh_geometry(model, given: set):
-    """``model`` with ``geometry`` measured on its imported mesh (the imported mesh is the geometry: beam
-    theory, the decks' master rings and the report use it). A key in ``given`` (set by the user) that
-    differs from the mesh's value by more than :data:`GEOMETRY_REL_TOL` is a ModelError naming both. A
-    mesh that fails its import checks leaves ``model`` as it is: building its mesh reports the failure."""
-    from ..mesh import build_mesh
-    from ..model import ModelError
-    if model.mesh.file is None:
-        return model
-    try:
-        mesh = build_mesh(model)
-    except ModelError:        # a broken mesh is reported where the mesh is built (every command builds it)
-        return model
-    geo = measured_geometry(mesh)
-    for key in sorted(given):
-        mine, theirs = getattr(model.geometry, key, None), geo.get(key)
-        if key == "top_radius":
-            mine = model.geometry.r_top
-            theirs = geo["radius"] if theirs is None else theirs
-        if mine is None or theirs is None:
-            continue
-        if abs(float(mine) - float(theirs)) > GEOMETRY_REL_TOL * abs(float(theirs)):
-            raise ModelError(f"geometry.{key}", mine, f"contradicts the imported mesh {model.mesh.file}, which "
-                             f"measures {key} = {theirs:.6g} m: the imported mesh is the geometry (drop the key "
-                             "or give the mesh's value)")
-    return model.with_overrides({f"geometry.{k}": v for k, v in geo.items()})
 
 
 def _name(stem: str) -> str:

@@ -105,7 +105,7 @@ def imported_mesh(model) -> SkirtMesh:
 
 def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -> SkirtMesh:
     """Slave sets, penalties and top weights of an oriented hexahedral mesh (formulas of build_mesh)."""
-    from ..model import ModelError
+    from ..errors import ModelError
     kbulk, pen = model.material.bulk_modulus, model.contact.penalty
     in_base = np.zeros(len(nodes), bool)
     in_base[base] = True

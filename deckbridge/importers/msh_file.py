@@ -22,7 +22,7 @@ SURFACE_OR_LOWER = {"vertex", "line", "line3", "triangle", "triangle6", "quad", 
 
 def read_msh(path: Path) -> RawMesh:
     import meshio
-    from ..model import ModelError
+    from ..errors import ModelError
     try:
         m = meshio.read(str(path), file_format="gmsh")
     except Exception as exc:   # meshio raises plain exceptions of many kinds on bad files
