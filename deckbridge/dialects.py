@@ -19,6 +19,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 
+NASTRAN_MAX_ID = 99_999_999      # an 8-character small field (GRID, CHEXA, CGAP, CELAS2 ids)
+INP_MAX_ID = 2_147_483_647        # CalculiX reads ids as 10-character integers into 32-bit integers
+
+
 @dataclass(frozen=True)
 class Dialect:
     """A solver dialect. ``decks``: file-name patterns of its decks, ``{name}`` = the model's name."""
@@ -32,6 +36,9 @@ class Dialect:
     runner: str | None = None  # "module" with run(deck, timeout_s, ...) for a solver run here
     # "module:function", f(model) -> {deck file name: why it runs NLGEOM although analysis.nlgeom is false}
     nlgeom_forced_by: str | None = None
+    # the largest node / element id its fields carry, and "module:function" f(mesh) -> largest id its decks write
+    max_id: int = INP_MAX_ID
+    largest_id: str = "deckbridge.numbering.inp:largest_id"
 
     def deck_names(self, model_name: str) -> list[str]:
         """File names of the decks of a model called ``model_name`` (in the order of ``decks``)."""
@@ -44,6 +51,15 @@ class Dialect:
     def write(self, model, mesh, outdir: Path) -> list[Path]:
         """Render this dialect's decks of ``model`` into ``outdir`` (imports the renderer now)."""
         return _attr(self.renderer)(model, mesh, outdir)
+
+    def id_problem(self, mesh) -> str | None:
+        """Why this dialect's decks cannot carry ``mesh``'s ids (one line), None when they can."""
+        n = int(_attr(self.largest_id)(mesh))
+        if n <= self.max_id:
+            return None
+        return (f"its decks would use ids up to {n} (the mesh's own ids and the deck's added nodes and elements), "
+                f"above its largest id {self.max_id}: renumber the mesh below {self.max_id // 10} or leave this "
+                "dialect out")
 
     def nlgeom_forced(self, model) -> dict[str, str]:
         """Decks of ``model`` whose analysis differs from analysis.nlgeom = false (they run NLGEOM), with why."""
@@ -71,10 +87,12 @@ DIALECTS: dict[str, Dialect] = {d.name: d for d in (
     Dialect("mystran", "deckbridge.render.mystran:write", "mystran", "mystran_f06", "mystran",
             ("{name}_mystran.bdf",),
             "MYSTRAN linear SOL 101, every gap closed (below liftoff)",
-            runner="deckbridge.external.mystran_run"),
+            runner="deckbridge.external.mystran_run", max_id=NASTRAN_MAX_ID,
+            largest_id="deckbridge.numbering.nastran:largest_id"),
     Dialect("nastran", "deckbridge.render.nastran:write", "nastran", "nastran_op2", "nastran",
             ("{name}_penalty.bdf",),
-            "MSC/NX Nastran SOL 106, CGAP penalty contact (not run here)"),
+            "MSC/NX Nastran SOL 106, CGAP penalty contact (not run here)", max_id=NASTRAN_MAX_ID,
+            largest_id="deckbridge.numbering.nastran:largest_id"),
 )}
 
 

@@ -402,4 +402,5 @@ def load(path: str | Path | None = None, overrides: list[str] | Mapping[str, Any
         model = model.with_overrides(overrides)
     from .importers.spec import resolve_file   # mesh.file: relative to the model file, checked
     model = resolve_file(model, Path(path).parent if path is not None else Path.cwd())
-    return model
+    from .importers.geometry import mesh_geometry   # mesh.file: the imported mesh is the geometry
+    return mesh_geometry(model, text if path is not None else None, overrides)

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .azimuths import azimuth_clusters, element_span_deg
 from .elements import ELEMENTS, elasticity_matrix, shape_gradients, strain_operator
 
 CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -186,14 +187,17 @@ def through_wall_weights(radius: np.ndarray) -> np.ndarray:
 
 
 def base_wall(nodes: np.ndarray, bottom_hexes: np.ndarray, s_axial_nodal: np.ndarray, axis: str = "z",
-              decimals: int = 9) -> BaseWall:
+              rel_tol: float = 1e-3) -> BaseWall:
     """Group the base nodes of the bottom element row by azimuth and reduce across the wall.
 
     ``nodes`` (n, 3) [m], ``bottom_hexes`` (ne, 8) node indices of the bottom element row, the wall's axis
     through the origin along ``axis`` ('x', 'y' or 'z'); base nodes are the row's nodes at the lowest
     axial coordinate. ``s_axial_nodal`` (n,) [Pa]: the axial normal stress per node (e.g. column zz of
     :func:`nodal_average` over the bottom row). Azimuth [deg, 0..360) counter-clockwise about ``axis``
-    (from +x towards +y for 'z'); nodes whose azimuths agree to ``decimals`` digits share an azimuth.
+    (from +x towards +y for 'z'); nodes whose azimuths agree to ``rel_tol`` of the smallest element's
+    angular span share an azimuth (:func:`azimuths.azimuth_clusters`: an imported mesh's nodes sit off
+    their nominal azimuth by round-off, 1e-7 deg in Gmsh's files, 1e-5 deg in 8-character Nastran
+    fields), ``theta_deg`` is each group's mean.
     """
     if axis not in AXES:
         raise ValueError(f"axis = {axis!r}: must be one of x, y, z")
@@ -204,11 +208,14 @@ def base_wall(nodes: np.ndarray, bottom_hexes: np.ndarray, s_axial_nodal: np.nda
     h = nodes[row, a]
     tol = 1e-9 * max(float(np.ptp(nodes, axis=0).max()), 1.0)
     base = row[h <= h.min() + tol]
-    th = np.round(np.mod(np.degrees(np.arctan2(nodes[base, c], nodes[base, b])), 360.0), decimals) % 360.0
+    az = lambda i: np.mod(np.degrees(np.arctan2(nodes[i, c], nodes[i, b])), 360.0)  # noqa: E731
+    span = element_span_deg(az(np.asarray(bottom_hexes, np.int64)))
+    th, centres = azimuth_clusters(az(base), rel_tol * float(span[span > 0].min() if (span > 0).any() else 360.0))
     rad = np.hypot(nodes[base, b], nodes[base, c])
     order = np.lexsort((rad, th))
     base, th, rad = base[order], th[order], rad[order]
     uth, counts = np.unique(th, return_counts=True)
+    uth = centres[uth]
     if np.any(counts != counts[0]) or counts[0] < 2:
         raise ValueError("bottom_hexes: base nodes do not form the same through-wall row at every azimuth")
     shape = (uth.size, int(counts[0]))

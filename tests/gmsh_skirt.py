@@ -35,40 +35,54 @@ def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
             "node_ids": nids[keep], "xyz": xyz[keep], "elem_ids": eids, "conn": conn, "sets": sets}
 
 
-def _mesh_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r) -> None:
-    """The Gmsh part of :func:`gmsh_skirt`: writes skirt.msh and gmsh_arrays.npz into ``outdir``."""
+def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r) -> None:
+    """The Gmsh model of :func:`gmsh_skirt` (geometry, transfinite meshing constraints, physical groups
+    SKIRT (volumes), BASE and TOP (faces)), not yet meshed."""
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.model.add("skirt")
+    geo = gmsh.model.geo
+    p = [geo.addPoint(R - t / 2, 0, 0), geo.addPoint(R + t / 2, 0, 0),
+         geo.addPoint(R + t / 2, 0, H), geo.addPoint(R - t / 2, 0, H)]
+    lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
+    loop = geo.addCurveLoop(lines)
+    surf = geo.addPlaneSurface([loop])
+    for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
+        geo.mesh.setTransfiniteCurve(ln, n + 1)
+    geo.mesh.setTransfiniteSurface(surf)
+    geo.mesh.setRecombine(2, surf)
+    vols, bottoms, tops = [], [], []
+    cur = (2, surf)
+    for q in range(4):   # revolve in 4 quarters (one revolution of 360 deg is not allowed)
+        out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
+        vols.append(out[1][1])
+        # the lateral surfaces from lines[0] (bottom) and lines[2] (top)
+        bottoms.append(out[2][1])
+        tops.append(out[4][1])
+        cur = out[0]
+    geo.synchronize()
+    gmsh.model.geo.removeAllDuplicates()
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
+    gmsh.model.addPhysicalGroup(2, bottoms, name="BASE")
+    gmsh.model.addPhysicalGroup(2, tops, name="TOP")
+
+
+def _mesh_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, written=False) -> None:
+    """The Gmsh part of :func:`gmsh_skirt`: writes skirt.msh and gmsh_arrays.npz into ``outdir``; with
+    ``written`` (:func:`gmsh_written`) also the other files of :data:`GMSH_FILES`."""
     import gmsh
     gmsh.initialize(["-noenv"])
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("skirt")
-        geo = gmsh.model.geo
-        p = [geo.addPoint(R - t / 2, 0, 0), geo.addPoint(R + t / 2, 0, 0),
-             geo.addPoint(R + t / 2, 0, H), geo.addPoint(R - t / 2, 0, H)]
-        lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
-        loop = geo.addCurveLoop(lines)
-        surf = geo.addPlaneSurface([loop])
-        for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
-            geo.mesh.setTransfiniteCurve(ln, n + 1)
-        geo.mesh.setTransfiniteSurface(surf)
-        geo.mesh.setRecombine(2, surf)
-        vols, bottoms, tops = [], [], []
-        cur = (2, surf)
-        for q in range(4):   # revolve in 4 quarters (one revolution of 360 deg is not allowed)
-            out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
-            vols.append(out[1][1])
-            # the lateral surfaces from lines[0] (bottom) and lines[2] (top)
-            bottoms.append(out[2][1])
-            tops.append(out[4][1])
-            cur = out[0]
-        geo.synchronize()
-        gmsh.model.geo.removeAllDuplicates()
-        geo.synchronize()
-        gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
-        gmsh.model.addPhysicalGroup(2, bottoms, name="BASE")
-        gmsh.model.addPhysicalGroup(2, tops, name="TOP")
+        _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r)
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.removeDuplicateNodes()
+        if written:
+            gmsh.option.setNumber("Mesh.SaveGroupsOfNodes", 1)
+            gmsh.option.setNumber("Mesh.MshFileVersion", 2.2)
+            gmsh.write(str(outdir / GMSH_FILES["msh22"]))
+            gmsh.write(str(outdir / GMSH_FILES["inp"]))
+            gmsh.option.setNumber("Mesh.SaveElementTagType", 2)   # .bdf: property id = physical group tag
+            gmsh.write(str(outdir / GMSH_FILES["bdf"]))
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         msh = outdir / "skirt.msh"
         gmsh.write(str(msh))
@@ -110,6 +124,28 @@ def write_bdf(path, nids, xyz, eids, conn, sets):
     lines.append("ENDDATA")
     Path(path).write_text("\n".join(lines) + "\n")
     return Path(path)
+
+
+GMSH_FILES = {"msh": "skirt.msh", "msh22": "skirt22.msh", "inp": "skirt.inp", "bdf": "skirt.bdf"}
+
+
+def gmsh_written(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=24, n_z=6, n_r=1, scale=1.0) -> dict:
+    """The skirt of :func:`gmsh_skirt` with every coordinate multiplied by ``scale`` (1000: a mesh in mm),
+    written by Gmsh itself (``gmsh.write``) as an analyst exports it: ``.msh`` 4.1 and 2.2, ``.inp`` and
+    ``.bdf``, each with what Gmsh writes for the physical groups (the volumes SKIRT, the skin faces BASE
+    and TOP as 2D elements; node sets *NSET in the .inp through ``Mesh.SaveGroupsOfNodes``; in the .bdf
+    the skin CQUAD4 carry their group's tag as property id, BASE = 2, TOP = 3, with no PSHELL). Returns
+    the paths by format (:data:`GMSH_FILES`) and Gmsh's arrays (node ids, xyz, hexahedra, sets)."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    args = json.dumps({"outdir": str(outdir), "R": R * scale, "t": t * scale, "H": H * scale, "n_theta": n_theta,
+                       "n_z": n_z, "n_r": n_r, "written": True})
+    subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
+    a = np.load(outdir / "gmsh_arrays.npz")
+    out = {k: outdir / v for k, v in GMSH_FILES.items()}
+    out.update(node_ids=a["tags"], xyz=a["xyz"].reshape(-1, 3), conn=a["conn"], elem_ids=a["eids"],
+               sets={"BASE": a["BASE"], "TOP": a["TOP"]})
+    return out
 
 
 if __name__ == "__main__":

@@ -86,6 +86,8 @@ def test_mesh_not_connected(tmp_path):
 
 
 def test_other_element_type_names_type_and_count(tmp_path):
-    _fails(_model(tmp_path, *_ring(), etype="C3D20"), r"8 elements of type C3D20: tetrahedral and quadratic meshes are a later issue")
     ids, xyz, eids, conn = _ring()
+    conn20 = np.hstack([conn, conn[:, :8], conn[:, :4]])     # 20 node ids per element, as a C3D20 has
+    _fails(_model(tmp_path, ids, xyz, eids, conn20, etype="C3D20"),
+           r"8 elements of type C3D20: 20-node \(quadratic\) hexahedra; tetrahedral and quadratic meshes are a later issue")
     _fails(_model(tmp_path, ids, xyz, eids, conn[:, :4], etype="C3D4"), r"8 elements of type C3D4: .*later issue")

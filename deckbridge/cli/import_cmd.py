@@ -30,3 +30,10 @@ def import_cmd(mesh, out, base, top, stop, units, name, overrides, force):
     write_text(p, text)
     g = model.geometry
     click.echo(f"wrote {p}: R = {g.radius:.6g} m, t = {g.thickness:.6g} m, H = {g.height:.6g} m")
+    from ..dialects import DIALECTS
+    from ..mesh import build_mesh
+    mesh = build_mesh(model)
+    for d in DIALECTS.values():
+        why = d.id_problem(mesh)
+        if why:
+            click.echo(f"note: {d.name} decks cannot carry this mesh's ids: {why}")

@@ -4,21 +4,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from .raw import HEX8
+from .raw import HEX8, is_solid, solid_shape
 
 LATER = "tetrahedral and quadratic meshes are a later issue (deckbridge takes 8-node hexahedra)"
 
 
 def hex8_only(raw, key: str = "mesh.file"):
-    """(element ids, connectivity of node ids) of the 8-node hexahedra; any other type is refused."""
-    from ..model import ModelError
-    other = {t: len(i) for t, (i, c) in raw.elements.items() if t.upper() not in HEX8 or c.shape[1] != 8}
+    """(element ids, connectivity of node ids) of the 8-node hexahedra. Elements that are not solids
+    (the 2D skin of physical groups Gmsh writes, CPS4 / S4 / CQUAD4, beams, springs) are ignored: their
+    nodes are solid nodes and they may define the node sets. Any other solid type is refused, named."""
+    from ..errors import ModelError
+    solids = {t: (i, c) for t, (i, c) in raw.elements.items() if is_solid(t)}
+    other = {t: (len(i), c.shape[1]) for t, (i, c) in solids.items() if t.upper() not in HEX8 or c.shape[1] != 8}
     if other:
-        t, n = next(iter(other.items()))
-        raise ModelError(key, raw.path, f"{n} elements of type {t}: {LATER}")
-    hexes = [(i, c) for t, (i, c) in raw.elements.items()]
+        t, (n, k) = next(iter(other.items()))
+        raise ModelError(key, raw.path, f"{n} elements of type {t}: {solid_shape(k)}; {LATER}")
+    hexes = list(solids.values())
     if not hexes:
-        raise ModelError(key, raw.path, "no 8-node hexahedra in the file")
+        skin = ", ".join(sorted(raw.elements)) or "none"
+        raise ModelError(key, raw.path, f"no 8-node hexahedra in the file (elements found: {skin})")
     ids = np.concatenate([i for i, _ in hexes])
     conn = np.vstack([c for _, c in hexes])
     u, cnt = np.unique(ids, return_counts=True)
@@ -27,9 +31,47 @@ def hex8_only(raw, key: str = "mesh.file"):
     return ids, conn
 
 
+def ids_in_range(raw, elem_ids, key: str = "mesh.file") -> None:
+    """Node and element ids positive and within the largest id some dialect carries
+    (:attr:`deckbridge.dialects.Dialect.max_id`; a dialect whose fields are narrower is left out at render)."""
+    from ..dialects import DIALECTS
+    from ..errors import ModelError
+    top = max(d.max_id for d in DIALECTS.values())
+    for what, ids in (("node", np.asarray(raw.node_ids)), ("element", np.asarray(elem_ids))):
+        bad = ids[(ids < 1) | (ids > top)]
+        if bad.size:
+            fits = ", ".join(f"{d.name} {d.max_id}" for d in DIALECTS.values())
+            raise ModelError(key, raw.path, f"{what} id {int(bad[0])}: ids must lie in 1..{top} to be written "
+                             f"to a deck (largest id per dialect: {fits}): renumber the mesh")
+
+
+def finite_coordinates(raw, key: str = "mesh.file") -> None:
+    """Every coordinate a finite number (a NaN or infinite one is named with its node and axis)."""
+    from ..errors import ModelError
+    bad = ~np.isfinite(np.asarray(raw.nodes, float))
+    if bad.any():
+        i, a = np.argwhere(bad)[0]
+        raise ModelError(key, raw.path, f"node {int(raw.node_ids[i])}: coordinate {'xyz'[a]} = "
+                         f"{raw.nodes[i, a]!r} is not a finite number")
+
+
+def plausible_size(nodes, units: str, unit_m: dict, lo_hi: tuple, key: str = "mesh.units") -> None:
+    """The skirt's largest radius ``nodes`` (skirt frame, m) within ``lo_hi`` [m] for the declared
+    ``units``: outside it the unit is wrong (a mesh in mm declared m measures R = 1500 m); the message
+    gives the radius each unit of ``unit_m`` (name -> metres per unit) would give."""
+    from ..errors import ModelError
+    r = float(np.hypot(nodes[:, 0], nodes[:, 1]).max())
+    lo, hi = lo_hi
+    if lo <= r <= hi:
+        return
+    alt = ", ".join(f"{u}: {r / unit_m[units] * f:.6g} m" for u, f in unit_m.items() if u != units)
+    raise ModelError(key, units, f"the mesh's largest radius is {r:.6g} m, outside {lo:g}..{hi:g} m for a skirt: "
+                     f"is the mesh in another unit? (mesh.units = {alt})")
+
+
 def nodes_unique_and_used(raw, conn_ids: np.ndarray, size: float, key: str = "mesh.file") -> None:
     """Duplicate node ids, coincident nodes (unmerged), nodes no element uses, elements on unknown nodes."""
-    from ..model import ModelError
+    from ..errors import ModelError
     u, cnt = np.unique(raw.node_ids, return_counts=True)
     if (cnt > 1).any():
         raise ModelError(key, raw.path, f"node {int(u[cnt > 1][0])} is defined twice")
@@ -50,7 +92,7 @@ def nodes_unique_and_used(raw, conn_ids: np.ndarray, size: float, key: str = "me
 
 def set_nodes(raw, sets, role: str, index_of: dict) -> np.ndarray:
     """Node indices of set ``sets.<role>``; an unknown name lists the sets found."""
-    from ..model import ModelError
+    from ..errors import ModelError
     from .bdf_file import node_list_file
     name = getattr(sets, role)
     ids = raw.sets.get(name)
@@ -68,7 +110,7 @@ def set_nodes(raw, sets, role: str, index_of: dict) -> np.ndarray:
 def base_plane(nodes, base, top, node_ids, names, size: float) -> float:
     """Base nodes on one plane z = z0 normal to the axis (tolerance 1e-6 of the model size); the top set
     non-empty and above the base. Returns z0."""
-    from ..model import ModelError
+    from ..errors import ModelError
     tol = 1e-6 * size
     if base.size == 0:
         raise ModelError("mesh.sets.base", names.base, "is empty")
@@ -91,7 +133,7 @@ def base_plane(nodes, base, top, node_ids, names, size: float) -> float:
 
 def not_inverted(nodes, hexes, elem_ids) -> None:
     """Every hexahedron has a positive Jacobian at its 8 corners (C3D8 node order)."""
-    from ..model import ModelError
+    from ..errors import ModelError
     x = nodes[hexes]                                   # (m, 8, 3)
     sg = np.array([-1, 1, 1, -1, -1, 1, 1, -1], float)
     tg = np.array([-1, -1, 1, 1, -1, -1, 1, 1], float)
@@ -112,7 +154,7 @@ def connected(n_nodes: int, hexes, node_ids) -> None:
     """One connected body (elements sharing nodes)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
-    from ..model import ModelError
+    from ..errors import ModelError
     r = np.repeat(hexes[:, :1], 7, axis=1).ravel()
     c = hexes[:, 1:].ravel()
     g = coo_matrix((np.ones(r.size), (r, c)), shape=(n_nodes, n_nodes))

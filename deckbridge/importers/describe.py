@@ -1,16 +1,12 @@
-"""The model of an imported mesh: geometry measured on the mesh, import keys, checked by meshing it.
-
-Geometry written into the model (used by beam theory, the master rings of the inp decks and the
-report): mid-wall radius = (r_min + r_max) / 2 and thickness = r_max - r_min of the base nodes, height
-= top plane - base plane, ``top_radius`` when the top's mid-wall radius differs (a cone) [m].
-"""
+"""The model of an imported mesh (``deckbridge import``): geometry measured on the mesh
+(:func:`.geometry.measured_geometry`), import keys, checked by meshing it."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-import numpy as np
+from .geometry import measured_geometry
 
 
 def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top: str, stop: str | None = None,
@@ -30,17 +26,8 @@ def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top
     data["contact"]["stop"]["side"] = "inner" if stop is None else data["contact"]["stop"]["side"]
     model = Model.from_dict(apply_overrides(data, overrides or []))
     mesh = build_mesh(model)          # every import check; geometry below from the checked mesh
-    r = np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])
-    rb, rt = r[mesh.table.nodes], r[mesh.top_nodes]
-    zt = float(np.mean(mesh.nodes[mesh.top_nodes, 2]))
-    rnd = lambda x: float(f"{x:.12g}")  # noqa: E731
-    geo = {"radius": rnd((rb.min() + rb.max()) / 2), "thickness": rnd(rb.max() - rb.min()), "height": rnd(zt),
-           "top_radius": None}
-    r_top = rnd((rt.min() + rt.max()) / 2)
-    if abs(r_top - geo["radius"]) > 1e-6 * geo["radius"]:
-        geo["top_radius"] = r_top
     data = model.to_dict()
-    data["geometry"] = geo
+    data["geometry"] = measured_geometry(mesh)
     data["mesh"]["file"] = os.path.relpath(mesh_path, model_path.parent)
     data["mesh"].update(n_theta=mesh.n_theta, n_z=mesh.n_z, n_r=mesh.n_r)   # measured; informative only
     model = Model.from_dict({**data, "mesh": {**data["mesh"], "file": str(mesh_path)}})

@@ -12,16 +12,16 @@ User node and element ids are kept (``node_ids``, ``elem_ids``) for the decks an
 
 from __future__ import annotations
 
+from dataclasses import replace
 from itertools import permutations, product
 
 import numpy as np
 
-from ..azimuth import azimuth_deg
 from ..mesh_data import SkirtMesh, _slave_set, hex_volumes, quad_nodal_areas
 from ..supports import pad_face_mask
-from . import checks
+from . import checks, measure
 from .read import read_mesh_file
-from .spec import MESH_UNITS
+from .spec import MESH_UNITS, PLAUSIBLE_RADIUS_M
 
 CUBE = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                  [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]])
@@ -80,9 +80,12 @@ def imported_mesh(model) -> SkirtMesh:
     ms = model.mesh
     raw = read_mesh_file(ms.file)
     elem_ids, conn_ids = checks.hex8_only(raw)
+    checks.ids_in_range(raw, elem_ids)
     unit = MESH_UNITS[ms.units]
     axis = None if ms.axis is None else (*(unit * np.array(ms.axis[:3])), *ms.axis[3:])
+    checks.finite_coordinates(raw)
     raw.nodes = _to_skirt_frame(np.asarray(raw.nodes, float) * unit, axis)
+    checks.plausible_size(raw.nodes, ms.units, MESH_UNITS, PLAUSIBLE_RADIUS_M)
     size = float(np.ptp(raw.nodes, axis=0).max()) if raw.nodes.size else 1.0
     checks.nodes_unique_and_used(raw, conn_ids.ravel(), size)
     index_of = {int(n): i for i, n in enumerate(raw.node_ids)}
@@ -102,7 +105,7 @@ def imported_mesh(model) -> SkirtMesh:
 
 def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -> SkirtMesh:
     """Slave sets, penalties and top weights of an oriented hexahedral mesh (formulas of build_mesh)."""
-    from ..model import ModelError
+    from ..errors import ModelError
     kbulk, pen = model.material.bulk_modulus, model.contact.penalty
     in_base = np.zeros(len(nodes), bool)
     in_base[base] = True
@@ -111,8 +114,8 @@ def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -
     if stray.size:
         raise ModelError("mesh.sets.base", model.mesh.sets.base, f"node {int(node_ids[stray[0]])} is on no base "
                          "element face (every base node must be a corner of a bottom face)")
-    table_th = azimuth_deg(nodes[base, 0], nodes[base, 1])
-    n_theta = max(8, int(np.unique(np.round(table_th, 6) % 360).size))   # azimuths of the base nodes
+    base_rings = measure.rings(nodes, hexes[on_base, :4])
+    n_theta = max(8, base_rings.n_theta)   # through-wall rows of the base faces (by connectivity)
     on_pad = pad_face_mask(model.contact.pads, nodes[hexes[on_base, :4]], 360.0 / n_theta, ModelError)
     base_elems = on_base[on_pad]
     vol = hex_volumes(nodes[hexes])
@@ -127,10 +130,8 @@ def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -
     if side != "none":
         cols, sign = ([0, 3, 7, 4], 1.0) if side == "inner" else ([1, 2, 6, 5], -1.0)
         r = np.hypot(nodes[:, 0], nodes[:, 1])
-        if stop_set is None:
-            rb = r[base]
-            edge = rb.min() if side == "inner" else rb.max()
-            stop_set = base[np.abs(rb - edge) <= 1e-6 * max(rb.max(), 1e-300)]
+        if stop_set is None:           # the innermost (outermost) ring of the base faces
+            stop_set = base_rings.rings[0 if side == "inner" else -1]
         in_stop = np.zeros(len(nodes), bool)
         in_stop[stop_set] = True
         stop_elems = on_base[in_stop[hexes[on_base][:, cols[:2]]].all(axis=1)]
@@ -141,12 +142,15 @@ def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -
         sa[:, 2:] = 0.0
         ks = pen.alpha * kbulk * sa.sum(axis=1, keepdims=True) * 2.0 * sa / vol[stop_elems][:, None]
         snodes = np.unique(sfaces[:, :2])
-        th = np.radians(azimuth_deg(nodes[snodes, 0], nodes[snodes, 1]))
+        th = np.radians(base_rings.theta[snodes])   # the row's azimuth: normal orthogonal to the table's tangent
         normal = sign * np.stack([np.cos(th), np.sin(th), np.zeros(th.size)], axis=1)
         r_stop = model.contact.stop.radius
         clearance = np.zeros(snodes.size) if r_stop is None else np.maximum(
             (r[snodes] - r_stop) if side == "inner" else (r_stop - r[snodes]), 0.0)
         stop = _slave_set("stop", nodes, snodes, sfaces, sa, ks, pen.k_normal, normal, clearance)
+    table = replace(table, theta_deg=base_rings.theta[table.nodes])   # one azimuth per through-wall row
+    if stop is not None:
+        stop = replace(stop, theta_deg=base_rings.theta[stop.nodes])
     k_t = table.k.copy() if pen.k_tangent is None else np.full(table.nodes.size, float(pen.k_tangent))
     in_top = np.zeros(len(nodes), bool)
     in_top[top] = True
@@ -157,8 +161,8 @@ def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -
     w = np.zeros(len(nodes))
     np.add.at(w, tfaces.ravel(), quad_nodal_areas(nodes[tfaces]).ravel())
     top_nodes = np.unique(tfaces)
-    n_r = max(1, _levels(np.hypot(*nodes[base, :2].T)) - 1)
-    n_z = max(1, _levels(nodes[:, 2]) - 1)
+    n_r = max(1, len(base_rings.rings) - 1)
+    n_z = max(1, measure.axial_layers(len(nodes), hexes) - 1)
     return SkirtMesh(nodes=nodes, hexes=hexes, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=w[top_nodes],
                      ref_point=np.array([0.0, 0.0, float(np.mean(nodes[top_nodes, 2]))]),
@@ -166,8 +170,3 @@ def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -
                      stop_elems=stop_elems, node_ids=np.asarray(node_ids, np.int64),
                      elem_ids=np.asarray(elem_ids, np.int64))
 
-
-def _levels(v: np.ndarray) -> int:
-    """Number of distinct values (to 1e-7 of the range)."""
-    span = float(np.ptp(v)) or 1.0
-    return int(np.unique(np.round(v / (1e-7 * span))).size)

@@ -12,7 +12,7 @@ from .raw import RawMesh
 
 def read_mesh_file(path: str | Path) -> RawMesh:
     """Read ``path`` by its extension: .inp (Abaqus/CalculiX), .msh (Gmsh), .bdf/.dat/.nas (Nastran)."""
-    from ..model import ModelError
+    from ..errors import ModelError
     from .spec import MAX_MESH_BYTES, check_file
     p = Path(path)
     check_file("mesh.file", p, MAX_MESH_BYTES)   # also for models not read by model.load

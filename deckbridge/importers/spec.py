@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 MESH_UNITS = {"m": 1.0, "mm": 1.0e-3}
+PLAUSIBLE_RADIUS_M = (0.01, 100.0)   # a skirt's largest radius [m]; outside it mesh.units is refused as wrong
 MAX_MESH_BYTES = 1 << 30        # 1 GiB of mesh text (~10^7 nodes); the memory check then bounds the solve
 MAX_LIST_BYTES = 64 << 20       # a node-id list file
 

@@ -135,6 +135,14 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
                   top_elems=top, loads=model.load_vectors())
 
 
+def largest_id(mesh: SkirtMesh) -> int:
+    """An upper bound of the largest node or element id an inp-family deck of ``mesh`` writes: the skirt's
+    largest id plus the reference node, two master rings (4 n_theta nodes, n_theta elements each), a
+    grounded node and a gap per contact row and a SPRING1 per table node."""
+    n_contact = mesh.table.nodes.size + (0 if mesh.stop is None else mesh.stop.nodes.size)
+    return max(max_node_id(mesh), max_elem_id(mesh)) + 1 + 8 * mesh.n_theta + 2 * n_contact + mesh.table.nodes.size
+
+
 # --- CalculiX decks ----------------------------------------------------------------------------------
 CCX_MASTERS = {"penalty": (), "mortar": ("table",), "penalty_n2f": ("table", "stop")}   # master rings
 

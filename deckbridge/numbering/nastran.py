@@ -92,6 +92,13 @@ def numbering(mesh: SkirtMesh) -> Numbering:
                      elem_offset=_offset(max_elem_id(mesh), n_contact))
 
 
+def largest_id(mesh: SkirtMesh) -> int:
+    """The largest grid or element id a Nastran-family deck of ``mesh`` writes (the RBE, gap nodes, skirt)."""
+    nb = numbering(mesh)
+    n_contact = mesh.table.nodes.size + (0 if mesh.stop is None else mesh.stop.nodes.size)
+    return max(nb.node_offset + n_contact, nb.rigid_eid + 1, max_node_id(mesh), max_elem_id(mesh))
+
+
 def ground_distance(mesh: SkirtMesh) -> float:
     """Distance of a grounded gap node from its slave node: height of the first element row [m]."""
     if mesh.node_ids is not None:   # imported mesh

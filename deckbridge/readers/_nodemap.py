@@ -32,8 +32,11 @@ def slave_nodes(model: Model) -> pd.DataFrame:
     in_table[mesh.table.nodes] = True
     idx = mesh_node_index(mesh, ids)
     xyz = mesh.nodes[idx]
+    theta = azimuth_deg(mesh.nodes[:, 0], mesh.nodes[:, 1])
+    for s in mesh.slave_sets:       # the slave sets' azimuths (an imported mesh's: one per through-wall row)
+        theta[s.nodes] = s.theta_deg
     return pd.DataFrame({
-        "theta_deg": azimuth_deg(xyz[:, 0], xyz[:, 1]),
+        "theta_deg": theta[idx],
         "r": np.hypot(xyz[:, 0], xyz[:, 1]),
         "z": xyz[:, 2],
         "table": in_table[idx],

@@ -37,6 +37,9 @@ def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
     with staged(outdir) as stage:
         for name in chosen:
             try:
+                why = DIALECTS[name].id_problem(mesh)
+                if why:
+                    raise DeckUnsupported(name, why)
                 files = DIALECTS[name].write(model, mesh, stage)
             except DeckUnsupported as err:
                 if on_unsupported is None:
