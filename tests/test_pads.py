@@ -122,3 +122,40 @@ def test_pads_on_an_imported_mesh_select_the_same_faces(tmp_path):
     imp = build_mesh(load(None, small + [f"mesh.file={f}", "mesh.sets={base: BASE, top: TOP}"]))
     np.testing.assert_array_equal(imp.table.nodes, me.table.nodes)
     np.testing.assert_allclose(imp.table.k, me.table.k, rtol=1e-12)
+
+
+@pytest.mark.parametrize("side", ["none", "inner", "outer"])
+def test_pads_with_every_stop_side_run_and_balance_the_base_wall(tmp_path, side):
+    """Pads x stop side through decks, both reference methods and ``run`` (issue 21.2: the inner stop
+    ended the decks in KeyError, the stop rows off the pads having no table k_t; the base-wall check
+    read 28-43 % off). Force balance: at lambda = 0 the wall's axial resultant over the whole base
+    section, Sum mean sigma_zz x area_m2 (every bottom-row face, pad or not), is N; the equilibrium
+    residual of every source and compared point is below 1 % and the console warns of none."""
+    import json
+
+    import pandas as pd
+
+    from deckbridge.job import run_job
+
+    m = load(None, ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", f"contact.stop.side={side}",
+                    "contact.pads={count: 4, width_deg: 30, first_deg: 45}", "steps.increments=4",
+                    "outputs.vtu=false"])
+    me = build_mesh(m)
+    assert me.table.nodes.size == 4 * 3 * 2                      # 3 azimuths x 2 wall nodes per pad
+    assert (me.stop is None) == (side == "none") and (side == "none" or me.stop.nodes.size == 24)
+    lines = []
+    run_job(m, tmp_path / "out", echo=lines.append)
+    bdf = (tmp_path / "out" / "decks" / "JAR_penalty.bdf").read_text()
+    assert len(re.findall(r"^CGAP", bdf, flags=re.M)) == 24 + (0 if side == "none" else 24)
+    assert not [x for x in lines if "equilibrium residual" in x]
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    for point in summary["comparisons"]:
+        for label, ex in point["sources"].items():
+            assert ex["szz_resultant_residual"] < 0.01, (label, point["load_factor"])
+            assert ex["contact_resultant_n"] == pytest.approx(m.loads.N, rel=1e-9)
+    for method in ("penalty", "lagrange"):
+        w = pd.read_csv(tmp_path / "out" / f"reference_{method}" / "wall_stress.csv")
+        s1 = w[w.step == 1]
+        assert len(s1) == 24 and s1.area_m2.sum() == pytest.approx(
+            0.5 * 24 * np.sin(2 * np.pi / 24) * 2 * m.geometry.radius * m.geometry.thickness, rel=1e-12)
+        assert -(s1.szz_mean_pa * s1.area_m2).sum() == pytest.approx(m.loads.N, rel=0.01)
