@@ -336,17 +336,19 @@ def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, Any] | list
         parts = key.split(".")
         node, tmpl = out, template
         for i, part in enumerate(parts):
-            if not isinstance(tmpl, dict) or part not in tmpl:
+            free = i > 0 and tmpl is None   # inside a key null by default (contact.pads): its validator names keys
+            if not free and (not isinstance(tmpl, dict) or part not in tmpl):
                 raise ModelError(key, value, "unknown key")
             if i == len(parts) - 1:
-                if isinstance(tmpl[part], dict):
+                if not free and isinstance(tmpl[part], dict):
                     raise ModelError(key, value, "is a section, set one of its keys")
                 node[part] = value
             else:
-                node = node.setdefault(part, {})
+                node[part] = {} if node.get(part) is None else node[part]   # absent or null: starts empty
+                node = node[part]
                 if not isinstance(node, dict):
                     raise ModelError(".".join(parts[: i + 1]), node, "must be a mapping")
-                tmpl = tmpl[part]
+                tmpl = None if free else tmpl[part]
     return out
 
 

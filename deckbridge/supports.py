@@ -49,8 +49,9 @@ def pads_from(value: Any, ModelError, _int, _num) -> Pads | None:
     for key in value:
         if key not in known:
             raise ModelError(f"contact.pads.{key}", value[key], "unknown key")
-    if "count" not in value or "width_deg" not in value:
-        raise ModelError("contact.pads", value, "needs count and width_deg")
+    for key in ("count", "width_deg"):      # no defaults: first_deg 0 and radial full have
+        if key not in value:
+            raise ModelError(f"contact.pads.{key}", None, "required when contact.pads is set (no default)")
     count = _int("contact.pads.count", value["count"], ge=1, le=10**4)   # issue 13: bounded before any work
     width = _num("contact.pads.width_deg", value["width_deg"], gt=0)
     if count * width >= 360.0:

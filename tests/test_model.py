@@ -121,3 +121,22 @@ def test_init_writes_a_model_that_loads_back(tmp_path):
     assert load(p) == load()
     again = CliRunner().invoke(main, ["init", str(p)])
     assert again.exit_code != 0 and "exists" in again.output
+
+
+def test_dotted_keys_reach_into_a_mapping_null_by_default():
+    """Issue 21.15: ``--set contact.pads.count=4`` read "contact.pads = None: must be a mapping". Dotted keys
+    build the null mapping: the model equals the one given as a whole mapping, a missing key without
+    default is named in one line, an unknown one too."""
+    whole = load(None, ["contact.pads={count: 4, width_deg: 30, first_deg: 45}"])
+    dotted = load(None, ["contact.pads.count=4", "contact.pads.width_deg=30", "contact.pads.first_deg=45"])
+    assert dotted == whole and dotted.contact.pads.count == 4 and dotted.contact.pads.width_deg == 30.0
+    assert load(None, ["contact.pads.count=2", "contact.pads.width_deg=40"]).contact.pads.first_deg == 0.0
+    band = load(None, ["contact.pads.count=2", "contact.pads.width_deg=40", "contact.pads.radial.inner=1.5"])
+    assert band.contact.pads.inner == 1.5 and band.contact.pads.outer is None
+    with pytest.raises(ModelError) as exc:
+        load(None, ["contact.pads.count=4"])
+    assert str(exc.value).startswith("contact.pads.width_deg = ") and "required" in str(exc.value)
+    with pytest.raises(ModelError, match=r"^contact\.pads\.colour = .*unknown key"):
+        load(None, ["contact.pads.count=4", "contact.pads.width_deg=30", "contact.pads.colour=1"])
+    with pytest.raises(ModelError, match=r"^contact\.pdas\.count = .*unknown key"):
+        load(None, ["contact.pdas.count=4"])
