@@ -140,3 +140,24 @@ def test_dotted_keys_reach_into_a_mapping_null_by_default():
         load(None, ["contact.pads.count=4", "contact.pads.width_deg=30", "contact.pads.colour=1"])
     with pytest.raises(ModelError, match=r"^contact\.pdas\.count = .*unknown key"):
         load(None, ["contact.pdas.count=4"])
+
+
+def test_poisson_ratio_near_minus_one_is_refused_and_the_bound_balances():
+    """Issue 26: nu = -0.99999999 was accepted and the reactions missed T by 0.25 % (Fx 200,499 N for
+    200,000 N). nu >= NU_MIN = -0.9 (G/K = 42, as K/G = 49.7 at NU_MAX): at the bound both methods'
+    reactions balance N and T lambda to 1e-8 (force balance); below, one line names material.nu."""
+    import numpy as np
+
+    from deckbridge.model_fields import NU_MIN
+    from deckbridge.solve import condense_model, reactions, solve_system
+
+    for nu in (-0.99999999, -0.9000001):
+        with pytest.raises(ModelError, match=r"^material\.nu = -0\.9.*must be >= -0\.9"):
+            load(None, [f"material.nu={nu}"])
+    m = load(None, ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", f"material.nu={NU_MIN}"])
+    mesh, system = condense_model(m)
+    for method in ("penalty", "lagrange"):
+        _, _, sol = solve_system(m, mesh, system, method)
+        F, _ = reactions(system.problem, sol, -1)
+        np.testing.assert_allclose(F, [m.loads.T * sol.load_factor[-1], 0.0, m.loads.N], rtol=0,
+                                   atol=1e-8 * m.loads.N)
