@@ -525,3 +525,11 @@ def test_penalty_at_the_ends_of_its_range_still_balances_and_converges():
             assert np.abs(sol.force[-1] - lag.force[-1]).max() < 0.01 * lag.force[-1].max()
     with pytest.raises(ModelError, match="^k_factor = "):
         penalty_factor(m, PENALTY_RATIO[1] / unit * 1.01)
+
+
+def test_run_refuses_a_model_penalty_out_of_range_before_any_work(tmp_path):
+    """run with contact.penalty.alpha = 1e6 (rho = 8.3e5) stopped after writing the decks: checked first now."""
+    os.chdir(tmp_path)
+    one_error_line(cli(["run", "--set", "contact.penalty.alpha=1e6", *SMALL, "-o", "o"]), 2,
+                   "contact.penalty.alpha = 1000000.0: puts the penalty stiffness")
+    assert not (tmp_path / "o").exists()
