@@ -19,6 +19,8 @@ into stop normal and table friction follows the method's corner rule and is not 
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pandas as pd
 
@@ -56,7 +58,25 @@ def friction_table(contact: pd.DataFrame, sol, mu: float, normals: np.ndarray) -
                           "r": np.einsum("ij,ij->i", fn + ft, e_r), "t": np.einsum("ij,ij->i", fn + ft, e_theta)})
     node_sum = whole.groupby(["step", "increment", "node"])[["r", "t"]].transform("sum")
     out = out.assign(node_fh_r_n=node_sum["r"].to_numpy(), node_fh_theta_n=node_sum["t"].to_numpy())
+    warn_coulomb(out, sol.friction_check(None, mu))
     return out[COLUMNS]
+
+
+def warn_coulomb(table: pd.DataFrame, check: dict) -> None:
+    """Say (UserWarning, shown by the CLI) when the solution breaks its own Coulomb law: ``check`` is the
+    solver's count (:meth:`reference_solver.Solution.friction_check`: |F_t| > mu max(F_n, 0) (1 + 1e-9) +
+    1e-9 max |F_t|), the worst row is read from ``table`` (friction.csv). Such a row is no 0/0: a row whose
+    master pushes it with |F_t| far above mu F_n (issue 26: 8.9 kN of table friction with mu F_n = 6e-8 N
+    on a corner node whose stop is open) is not a Coulomb equilibrium, whatever its stick_status says."""
+    if not check["violations"]:
+        return
+    excess = table["ft_n"].to_numpy(float) - table["mu_fn_n"].to_numpy(float)
+    w = table.iloc[int(np.argmax(excess))]
+    warnings.warn(f"friction: {check['violations']} contact row(s) x increments break the Coulomb law "
+                  f"|F_t| <= mu F_n (mu = {check['mu']:g}); worst: node {int(w['node'])} ({w['surface']}, "
+                  f"{w['stick_status']}), step {int(w['step'])} increment {int(w['increment'])}: |F_t| = "
+                  f"{w['ft_n']:.4g} N against mu F_n = {w['mu_fn_n']:.4g} N (friction.csv): the solution is not "
+                  "a Coulomb equilibrium there", stacklevel=2)
 
 
 def read_friction(folder) -> pd.DataFrame | None:

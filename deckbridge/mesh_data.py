@@ -33,6 +33,17 @@ def quad_nodal_areas(xyz: np.ndarray) -> np.ndarray:
     return out
 
 
+def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.ndarray) -> np.ndarray:
+    """Base area [m^2] each azimuth of the wall stands on: the nodal shares (:func:`quad_nodal_areas`) of
+    the base faces (nodes 1-4) of every bottom-row hexahedron ``bottom_hexes`` (ne, 8), pad or not, summed
+    over each azimuth's through-wall base nodes ``wall_nodes`` (na, nw) (``reference_solver.stress.BaseWall.nodes``).
+    Sums to the whole base section, so that Sum sigma_zz x area is the wall's axial resultant there."""
+    faces = np.asarray(bottom_hexes, np.int64)[:, :4]
+    area = np.zeros(nodes.shape[0])
+    np.add.at(area, faces.ravel(), quad_nodal_areas(nodes[faces]).ravel())
+    return area[np.asarray(wall_nodes, np.int64)].sum(axis=1)
+
+
 def hex_volumes(xyz: np.ndarray) -> np.ndarray:
     """Volumes of trilinear hexahedra, ``xyz`` shape (ne, 8, 3) in C3D8 order [m^3]."""
     sg = np.array([-1, 1, 1, -1, -1, 1, 1, -1], float)

@@ -19,7 +19,7 @@ import yaml
 from . import safe_yaml
 from .errors import ModelError
 from .model_fields import (MAX_INCREMENTS, NAME_RE, NU_MAX, UNITS, _choice, _flag, _int, _num,  # noqa: F401
-                           _opt_num, _put, _text)
+                           _nu, _opt_num, _put, _text)
 
 __all__ = [
     "ModelError", "Geometry", "MeshSpec", "Material", "Stop", "Penalty", "Contact",
@@ -85,10 +85,7 @@ class Material:
     def __post_init__(self):
         _text("material.name", self.name, max_len=60)
         _put(self, "E", _num("material.E", self.E, gt=0))
-        _put(self, "nu", _num("material.nu", self.nu, gt=-1.0))
-        if not self.nu < NU_MAX:
-            raise ModelError("material.nu", self.nu, f"must be < {NU_MAX:g}: the hexahedral elements lock as nu "
-                             "approaches 0.5 (contact stresses and liftoff become wrong without warning)")
+        _put(self, "nu", _nu(self.nu))
 
     @property
     def bulk_modulus(self) -> float:
@@ -343,17 +340,19 @@ def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, Any] | list
         parts = key.split(".")
         node, tmpl = out, template
         for i, part in enumerate(parts):
-            if not isinstance(tmpl, dict) or part not in tmpl:
+            free = i > 0 and tmpl is None   # inside a key null by default (contact.pads): its validator names keys
+            if not free and (not isinstance(tmpl, dict) or part not in tmpl):
                 raise ModelError(key, value, "unknown key")
             if i == len(parts) - 1:
-                if isinstance(tmpl[part], dict):
+                if not free and isinstance(tmpl[part], dict):
                     raise ModelError(key, value, "is a section, set one of its keys")
                 node[part] = value
             else:
-                node = node.setdefault(part, {})
+                node[part] = {} if node.get(part) is None else node[part]   # absent or null: starts empty
+                node = node[part]
                 if not isinstance(node, dict):
                     raise ModelError(".".join(parts[: i + 1]), node, "must be a mapping")
-                tmpl = tmpl[part]
+                tmpl = None if free else tmpl[part]
     return out
 
 

@@ -17,6 +17,9 @@ _DECIMAL = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 MAX_ABS = 1.0e30          # no SI input of this model comes near; beyond it products overflow
 MAX_INCREMENTS = 10_000   # steps.increments: CalculiX decks carry INC > increments; 10^4 solves is hours
 NU_MAX = 0.49             # nu closer to 0.5 locks the hexahedra (Lagrange lambda_c 0.537 -> 0.018)
+NU_MIN = -0.9             # G / K = 3 (1 - 2 nu) / (2 (1 + nu)) = 42 here, K / G = 49.7 at NU_MAX: the same
+                          # ill-conditioning either side. Measured (24 x 6 x 1, penalty): reactions off N, T
+                          # by 3e-10 at -0.9, 1e-7 at -0.999, 9e-4 at -0.99999999 (issue 26: Fx 200,499 N)
 
 
 
@@ -85,3 +88,15 @@ def _flag(key: str, value: Any) -> bool:
     if not isinstance(value, bool):
         raise ModelError(key, value, "must be true or false")
     return value
+
+
+def _nu(value: Any) -> float:
+    """material.nu [-] within [NU_MIN, NU_MAX)."""
+    nu = _num("material.nu", value)
+    if not nu < NU_MAX:
+        raise ModelError("material.nu", value, f"must be < {NU_MAX:g}: the hexahedral elements lock as nu "
+                         "approaches 0.5 (contact stresses and liftoff become wrong without warning)")
+    if not nu >= NU_MIN:
+        raise ModelError("material.nu", value, f"must be >= {NU_MIN:g}: as nu approaches -1 the shear stiffness "
+                         "dwarfs the bulk stiffness and the reactions lose balance (wrong contact stresses)")
+    return nu

@@ -8,10 +8,21 @@ a penalty model is kept as sigma_N > 0, never clipped); force_n > 0 compressive;
 Equilibrium check (what it compares): the corner-extrapolated base-wall sigma_zz (Gauss points of
 the bottom element row extrapolated to the base corners, averaged over the elements sharing a node,
 trapezoid mean through the wall) against the through-wall contact sigma_N = -Sum force / Sum area.
-Two numbers: ``szz_resultant_residual`` (Sum over azimuths of mean sigma_zz x the azimuth's contact
-area, against the contact resultant Sum sigma_N x area, relative) is the equilibrium check
-and is warned above 1 %; ``szz_local_residual`` (max over theta of |mean sigma_zz - sigma_N| / max
-|sigma_N|) also carries the extrapolation error (5-8 % past liftoff on the default mesh, the lower
+Two numbers: ``szz_resultant_residual`` (Sum over every azimuth of the wall of mean sigma_zz x the
+base area the azimuth stands on, against the contact resultant Sum sigma_N x area, relative) is the
+equilibrium check and is warned above 1 %. The base area is the whole wall's (wall table column
+``area_m2``), not the contact area: on pads a pad-edge node's sigma_zz is the average of a loaded and
+an unloaded element, which the full area weights as the two half faces it stands for (weighted by
+the half contact area the check read 28-45 % off on 4 pads; tables without ``area_m2`` fall back to
+the contact areas of the contact azimuths, equal without pads). On a cone the check is the same force
+balance (sigma_zz is the vertical traction on the horizontal base section, whatever the wall's slope)
+and its warning is true: the reference's C3D8I (Taylor's det J0 / det J modes, patch test passed)
+flattens sigma_zz's axial gradient in an inclined bottom element, an O(element height) recovery error
+(top_radius 1.6, 24 x n_z x 1: 1.64 % at n_z 2, 0.54 % at 6, 0.10 % on the default mesh; the
+solver's reactions balance to 1e-10), where ccx's own C3D8I balances to 0.01-0.02 % on 24 x 6 x 1
+(its Gauss stresses are those of J0 modes without the det ratio, to 1e-4: a form that fails the
+reference's distorted patch test). ``szz_local_residual`` (max over theta of
+|mean sigma_zz - sigma_N| / max |sigma_N|) also carries the extrapolation error (5-8 % past liftoff on the default mesh, the lower
 Gauss layer alone ~1.3 %) and is reported, not warned.
 """
 
@@ -52,7 +63,7 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("szz_outer_pa", "Pa", "none", "wall sigma_zz at the base, outer face (Gauss -> corner, node average)"),
     Quantity("szz_mean_pa", "Pa", "trapezoid over the node radii / thickness", "membrane: through-wall mean sigma_zz at the base"),
     Quantity("szz_bending_pa", "Pa", "none", "bending: (outer - inner) / 2 of sigma_zz at the base"),
-    Quantity("szz_resultant_residual", "1", "contact area per azimuth",
+    Quantity("szz_resultant_residual", "1", "base area per azimuth (the whole wall, pads or not)",
              "|Sum mean sigma_zz x area - Sum sigma_N x area| / |Sum sigma_N x area| over the base (equilibrium check)"),
     Quantity("szz_local_residual", "1", "none", "max over theta |mean sigma_zz - sigma_N wall| / max |sigma_N wall|"),
     Quantity("open_tension_ratio", "1", "none",
@@ -149,7 +160,12 @@ def equilibrium(wall_szz: pd.DataFrame, rows: pd.DataFrame) -> dict:
     w = pd.Series(r["area_m2"].to_numpy(float), index=snap_deg(r["theta_deg"].to_numpy(float))).groupby(level=0).sum()
     w = w.reindex(sw.index).to_numpy(float)
     resultant = contact_resultant(rows)
-    res_glob = abs(float(np.sum(szz.to_numpy() * w)) - resultant) / max(abs(resultant), 1e-300)
+    wall_area = wall_szz["area_m2"].to_numpy(float) if "area_m2" in wall_szz else None
+    if wall_area is not None and np.isfinite(wall_area).all():      # the whole base section
+        axial = float(np.sum(wall_szz["szz_mean_pa"].to_numpy(float) * wall_area))
+    else:                                                            # older tables: contact areas
+        axial = float(np.sum(szz.to_numpy() * w))
+    res_glob = abs(axial - resultant) / max(abs(resultant), 1e-300)
     scale = float(np.max(np.abs(sw.to_numpy()))) or 1.0
     res_loc = float(np.nanmax(np.abs(szz.to_numpy() - sw.to_numpy()))) / scale
     return {"szz_resultant_residual": res_glob, "szz_local_residual": res_loc, "warn": res_glob > RESIDUAL_WARN}

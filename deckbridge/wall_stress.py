@@ -2,7 +2,8 @@
 
 Wall table columns (one row per state and azimuth): step, increment, load_factor, theta_deg,
 szz_inner_pa, szz_outer_pa, szz_mean_pa, szz_bending_pa [Pa], tension > 0 (the definitions of
-:mod:`deckbridge.quantities`). Reference: :func:`reference_solver.stress.reference_base_wall` on the
+:mod:`deckbridge.quantities`), and ``area_m2`` [m^2] the base area of the azimuth (every bottom-row face,
+on a pad or not: :func:`deckbridge.mesh_data.base_wall_areas`; absent from older tables). Reference: :func:`reference_solver.stress.reference_base_wall` on the
 bottom element row (Gauss points -> corners, averaged over the row's elements sharing a node);
 CalculiX: ``*EL PRINT`` S of the bottom row (:mod:`deckbridge.readers.ccx_el_stress`), used when the
 deck wrote it (never the ``.frd`` nodal stresses).
@@ -22,13 +23,15 @@ from reference_solver.stress import reference_base_wall
 
 from .azimuth import snap_deg
 from .errors import DeckbridgeError
+from .mesh_data import base_wall_areas
 from .numbering.skirt import bottom_row_index
 from .outdir import write_text
 from .readers._files import beside
 
 WALL_CSV = "wall_stress.csv"
 WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa", "szz_outer_pa",
-                "szz_mean_pa", "szz_bending_pa"]
+                "szz_mean_pa", "szz_bending_pa"]          # required; AREA written when known
+AREA = "area_m2"
 
 
 def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.DataFrame:
@@ -41,8 +44,9 @@ def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.Dat
         frames.append(pd.DataFrame({"step": int(sol.step[i]), "increment": int(sol.increment[i]),
                                     "load_factor": float(sol.load_factor[i]), "theta_deg": snap_deg(bw.theta_deg),
                                     "szz_inner_pa": bw.inner, "szz_outer_pa": bw.outer,
-                                    "szz_mean_pa": bw.mean, "szz_bending_pa": bw.bending}))
-    return pd.concat(frames, ignore_index=True)[WALL_COLUMNS]
+                                    "szz_mean_pa": bw.mean, "szz_bending_pa": bw.bending,
+                                    AREA: base_wall_areas(mesh.nodes, mesh.hexes[bottom], bw.nodes)}))
+    return pd.concat(frames, ignore_index=True)[WALL_COLUMNS + [AREA]]
 
 
 def ccx_wall(dat: Path, model, mesh=None) -> pd.DataFrame | None:
@@ -57,7 +61,7 @@ def ccx_wall(dat: Path, model, mesh=None) -> pd.DataFrame | None:
         raise
     inc = pd.Series(t["time"]).groupby(t["step"].to_numpy()).rank(method="dense").to_numpy(np.int64)
     t = t.assign(increment=inc, theta_deg=snap_deg(t["theta_deg"]))
-    return t[WALL_COLUMNS]
+    return t[WALL_COLUMNS + [c for c in (AREA,) if c in t]]
 
 
 def write_wall(folder: Path, table: pd.DataFrame) -> Path:

@@ -9,8 +9,11 @@ import numpy as np
 
 def _cone_check(ft: np.ndarray, fn: np.ndarray, mu: float, rtol: float) -> dict:
     """Tangential forces ``ft`` [N] against mu x the compressive normal forces ``fn`` [N] (same shape,
-    increments x rows): violations above mu fn (1 + rtol) plus a floor of 1e-9 of the largest ft."""
-    floor = 1e-9 * (ft.max() if ft.size else 0.0)
+    increments x rows): violations above mu fn (1 + rtol) plus a floor of 1e-9 of the largest force,
+    tangential or normal. Round-off scales with the forces in equilibrium: with mu = 1e-12 every |ft| is
+    round-off (<= 1e-6 N against normal forces of 1e5 N on the default JAR), and a floor on the largest
+    ft alone counted 1958 such rows as violations, open rows as |ft| / fn = inf (issue 26)."""
+    floor = 1e-9 * max(ft.max() if ft.size else 0.0, fn.max() if fn.size else 0.0)
     viol = ft > mu * fn * (1 + rtol) + floor
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(fn > 0, ft / fn, np.where(ft > floor, np.inf, 0.0))

@@ -483,3 +483,53 @@ def test_ccx_results_that_used_to_read_silently_wrong(ccx_job, tmp_path):
     res = cli(["compare", deck.with_suffix(".dat"), "-o", tmp_path / "cmp"])
     one_error_line(res, 2, "is not a number")
     assert not (tmp_path / "cmp").exists()
+
+
+# --- issue 21.11 / 26: penalty factors out of range -------------------------------------------------------------
+@pytest.mark.parametrize("args, needle", [
+    (["solve", "--method", "penalty", "--k-factor", "1e300"], "--k-factor = 1e+300: puts the penalty stiffness"),
+    (["solve", "--method", "penalty", "--k-factor", "1e-300"], "--k-factor = 1e-300: puts the penalty stiffness"),
+    (["solve", "--method", "penalty", "--alpha", "1e300"], "--alpha = 1e+300: puts the penalty stiffness"),
+    (["solve", "--method", "penalty", "--alpha", "1e-300"], "--alpha = 1e-300: puts the penalty stiffness"),
+    (["liftoff", "--method", "penalty", "--k-factor", "1e300"], "--k-factor = 1e+300: puts the penalty stiffness"),
+    (["solve", "--method", "penalty", "--set", "contact.penalty.k_normal=1e30"],
+     "contact.penalty.k_normal = 1e+30: puts the penalty stiffness"),
+])
+def test_penalty_factor_out_of_range_names_the_option(tmp_path, args, needle):
+    """--k-factor 1e300 ended in "ValueError: array must not contain infs or NaNs", 1e-300 in LinAlgError:
+    refused before any work in one line naming the option (the library names k_factor / alpha or the
+    model key; the CLI shows the flag)."""
+    os.chdir(tmp_path)
+    one_error_line(cli([*args, *SMALL, *(["-o", "o"] if args[0] == "solve" else [])]), 2, needle)
+    assert not (tmp_path / "o").exists()
+
+
+def test_penalty_at_the_ends_of_its_range_still_balances_and_converges():
+    """The bounds of solve.PENALTY_RATIO (rho = alpha k K / E) are where the answer is still right: at
+    the upper end the penalty node forces equal Lagrange's to 1 % of the largest (independent method),
+    at both ends the contact and spring reactions balance N and T lambda (force balance)."""
+    import numpy as np
+
+    from deckbridge.solve import PENALTY_RATIO, condense_model, penalty_factor, reactions, solve_system
+
+    m = load(None, ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.penalty.k_tangent=3.0e7"])
+    mesh, system = condense_model(m)
+    unit = m.contact.penalty.alpha * m.material.bulk_modulus / m.material.E       # rho at k_factor 1
+    _, _, lag = solve_system(m, mesh, system, "lagrange")
+    for rho in PENALTY_RATIO:
+        kf = penalty_factor(m, rho / unit * (1 - 1e-12 if rho == PENALTY_RATIO[1] else 1 + 1e-12))   # the ends
+        _, _, sol = solve_system(m, mesh, system, "penalty", kf)
+        F, _ = reactions(system.problem, sol, -1)
+        np.testing.assert_allclose(F, [m.loads.T * sol.load_factor[-1], 0.0, m.loads.N], rtol=0, atol=1e-6 * m.loads.N)
+        if rho == PENALTY_RATIO[1]:
+            assert np.abs(sol.force[-1] - lag.force[-1]).max() < 0.01 * lag.force[-1].max()
+    with pytest.raises(ModelError, match="^k_factor = "):
+        penalty_factor(m, PENALTY_RATIO[1] / unit * 1.01)
+
+
+def test_run_refuses_a_model_penalty_out_of_range_before_any_work(tmp_path):
+    """run with contact.penalty.alpha = 1e6 (rho = 8.3e5) stopped after writing the decks: checked first now."""
+    os.chdir(tmp_path)
+    one_error_line(cli(["run", "--set", "contact.penalty.alpha=1e6", *SMALL, "-o", "o"]), 2,
+                   "contact.penalty.alpha = 1000000.0: puts the penalty stiffness")
+    assert not (tmp_path / "o").exists()

@@ -155,3 +155,32 @@ def test_run_without_friction_writes_no_friction_section(tmp):
     summary = json.loads((out / "summary.json").read_text())
     assert "friction" not in summary
     assert "<h2>Friction</h2>" not in (out / "report.html").read_text()
+
+
+def test_a_solution_that_breaks_the_coulomb_law_is_said_on_the_console(tmp_path):
+    """Issue 26: solve --method lagrange with mu = 1e-12 recorded Coulomb-law violations in summary.json and
+    the console said nothing. They are real, not a 0/0: read independently from friction.csv, a row of
+    increment 10 carries |F_t| of kilonewtons against mu F_n < 1e-7 N (a corner node whose stop row is
+    open). The console now names the count and the worst row. On 24 x 4 x 1 with T = 0 every |F_t| is round-off
+    (< 1e-10 of the largest normal force) and the count, whose floor was 1e-9 of the largest |F_t| alone,
+    read 439 (open rows as |F_t| / F_n = inf); it is 0 now and nothing is said."""
+    sets = SMALL + ["contact.tangential=friction", "contact.friction=1e-12"]
+    res = CliRunner().invoke(main, ["solve", "--method", "lagrange", *[a for s in sets for a in ("--set", s)],
+                                    "-o", str(tmp_path / "tiny")])
+    assert res.exit_code == 0, res.output
+    fr = pd.read_csv(tmp_path / "tiny" / "friction.csv")
+    broken = fr[fr.ft_n > fr.mu_fn_n * (1 + 1e-9) + 1e-9 * fr.ft_n.max()]
+    summary = json.loads((tmp_path / "tiny" / "summary.json").read_text())
+    assert len(broken) == summary["friction"]["violations"] >= 1
+    assert broken.ft_n.max() > 1e3 and broken.mu_fn_n.max() < 1e-6          # kN against micro-newtons
+    line = [ln for ln in res.stderr.splitlines() if "break the Coulomb law" in ln]
+    assert len(line) == 1 and line[0].startswith(f"deckbridge: warning: friction: {len(broken)} contact row")
+    assert f"node {int(broken.loc[broken.ft_n.idxmax(), 'node'])} " in line[0]
+    sets = SMALL + ["mesh.n_z=4", "loads.T=0", "contact.tangential=friction", "contact.friction=1e-12"]
+    res = CliRunner().invoke(main, ["solve", "--method", "lagrange", *[a for s in sets for a in ("--set", s)],
+                                    "-o", str(tmp_path / "noise")])
+    assert res.exit_code == 0 and "Coulomb" not in res.stderr
+    fr = pd.read_csv(tmp_path / "noise" / "friction.csv")
+    normal = np.linalg.norm(fr[["fn_x_n", "fn_y_n", "fn_z_n"]].to_numpy(), axis=1).max()
+    assert fr.ft_n.max() < 1e-10 * normal                  # every |F_t| is round-off: nothing breaks the law
+    assert json.loads((tmp_path / "noise" / "summary.json").read_text())["friction"]["violations"] == 0

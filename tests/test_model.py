@@ -121,3 +121,43 @@ def test_init_writes_a_model_that_loads_back(tmp_path):
     assert load(p) == load()
     again = CliRunner().invoke(main, ["init", str(p)])
     assert again.exit_code != 0 and "exists" in again.output
+
+
+def test_dotted_keys_reach_into_a_mapping_null_by_default():
+    """Issue 21.15: ``--set contact.pads.count=4`` read "contact.pads = None: must be a mapping". Dotted keys
+    build the null mapping: the model equals the one given as a whole mapping, a missing key without
+    default is named in one line, an unknown one too."""
+    whole = load(None, ["contact.pads={count: 4, width_deg: 30, first_deg: 45}"])
+    dotted = load(None, ["contact.pads.count=4", "contact.pads.width_deg=30", "contact.pads.first_deg=45"])
+    assert dotted == whole and dotted.contact.pads.count == 4 and dotted.contact.pads.width_deg == 30.0
+    assert load(None, ["contact.pads.count=2", "contact.pads.width_deg=40"]).contact.pads.first_deg == 0.0
+    band = load(None, ["contact.pads.count=2", "contact.pads.width_deg=40", "contact.pads.radial.inner=1.5"])
+    assert band.contact.pads.inner == 1.5 and band.contact.pads.outer is None
+    with pytest.raises(ModelError) as exc:
+        load(None, ["contact.pads.count=4"])
+    assert str(exc.value).startswith("contact.pads.width_deg = ") and "required" in str(exc.value)
+    with pytest.raises(ModelError, match=r"^contact\.pads\.colour = .*unknown key"):
+        load(None, ["contact.pads.count=4", "contact.pads.width_deg=30", "contact.pads.colour=1"])
+    with pytest.raises(ModelError, match=r"^contact\.pdas\.count = .*unknown key"):
+        load(None, ["contact.pdas.count=4"])
+
+
+def test_poisson_ratio_near_minus_one_is_refused_and_the_bound_balances():
+    """Issue 26: nu = -0.99999999 was accepted and the reactions missed T by 0.25 % (Fx 200,499 N for
+    200,000 N). nu >= NU_MIN = -0.9 (G/K = 42, as K/G = 49.7 at NU_MAX): at the bound both methods'
+    reactions balance N and T lambda to 1e-8 (force balance); below, one line names material.nu."""
+    import numpy as np
+
+    from deckbridge.model_fields import NU_MIN
+    from deckbridge.solve import condense_model, reactions, solve_system
+
+    for nu in (-0.99999999, -0.9000001):
+        with pytest.raises(ModelError, match=r"^material\.nu = -0\.9.*must be >= -0\.9"):
+            load(None, [f"material.nu={nu}"])
+    m = load(None, ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", f"material.nu={NU_MIN}"])
+    mesh, system = condense_model(m)
+    for method in ("penalty", "lagrange"):
+        _, _, sol = solve_system(m, mesh, system, method)
+        F, _ = reactions(system.problem, sol, -1)
+        np.testing.assert_allclose(F, [m.loads.T * sol.load_factor[-1], 0.0, m.loads.N], rtol=0,
+                                   atol=1e-8 * m.loads.N)

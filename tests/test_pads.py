@@ -81,7 +81,7 @@ def test_pads_liftoff_reference_lagrange_matches_ccx_mortar(tmp_path):
     from deckbridge.render import render_all
 
     m = load(None, ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "load_introduction=kinematic", "loads.T=0",
-                    "contact.stop.side=none", "contact.pads={count: 4, width_deg: 45, first_deg: 0}",
+                    "contact.stop.side=none", "contact.pads={count: 4, width_deg: 45, first_deg: 7.5}",
                     "steps.increments=10"])
     render_all(m, tmp_path / "decks", ["calculix"])
     deck = (tmp_path / "decks" / "JAR_ccx_lagrange.inp").read_text()
@@ -122,3 +122,78 @@ def test_pads_on_an_imported_mesh_select_the_same_faces(tmp_path):
     imp = build_mesh(load(None, small + [f"mesh.file={f}", "mesh.sets={base: BASE, top: TOP}"]))
     np.testing.assert_array_equal(imp.table.nodes, me.table.nodes)
     np.testing.assert_allclose(imp.table.k, me.table.k, rtol=1e-12)
+
+
+@pytest.mark.parametrize("side", ["none", "inner", "outer"])
+def test_pads_with_every_stop_side_run_and_balance_the_base_wall(tmp_path, side):
+    """Pads x stop side through decks, both reference methods and ``run`` (issue 21.2: the inner stop
+    ended the decks in KeyError, the stop rows off the pads having no table k_t; the base-wall check
+    read 28-43 % off). Force balance: at lambda = 0 the wall's axial resultant over the whole base
+    section, Sum mean sigma_zz x area_m2 (every bottom-row face, pad or not), is N; the equilibrium
+    residual of every source and compared point is below 1 % and the console warns of none."""
+    import json
+
+    import pandas as pd
+
+    from deckbridge.job import run_job
+
+    m = load(None, ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", f"contact.stop.side={side}",
+                    "contact.pads={count: 4, width_deg: 30, first_deg: 45}", "steps.increments=4",
+                    "outputs.vtu=false"])
+    me = build_mesh(m)
+    assert me.table.nodes.size == 4 * 3 * 2                      # 3 azimuths x 2 wall nodes per pad
+    assert (me.stop is None) == (side == "none") and (side == "none" or me.stop.nodes.size == 24)
+    lines = []
+    run_job(m, tmp_path / "out", echo=lines.append)
+    bdf = (tmp_path / "out" / "decks" / "JAR_penalty.bdf").read_text()
+    assert len(re.findall(r"^CGAP", bdf, flags=re.M)) == 24 + (0 if side == "none" else 24)
+    assert not [x for x in lines if "equilibrium residual" in x]
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    for point in summary["comparisons"]:
+        for label, ex in point["sources"].items():
+            assert ex["szz_resultant_residual"] < 0.01, (label, point["load_factor"])
+            assert ex["contact_resultant_n"] == pytest.approx(m.loads.N, rel=1e-9)
+    for method in ("penalty", "lagrange"):
+        w = pd.read_csv(tmp_path / "out" / f"reference_{method}" / "wall_stress.csv")
+        s1 = w[w.step == 1]
+        assert len(s1) == 24 and s1.area_m2.sum() == pytest.approx(
+            0.5 * 24 * np.sin(2 * np.pi / 24) * 2 * m.geometry.radius * m.geometry.thickness, rel=1e-12)
+        assert -(s1.szz_mean_pa * s1.area_m2).sum() == pytest.approx(m.loads.N, rel=0.01)
+
+
+def test_pad_off_the_element_boundaries_is_snapped_with_a_note_or_refused(tmp_path):
+    """Issue 26: a 15 deg pad centred on a face boundary of 15 deg elements took both faces (30 deg of
+    support). Now each pad edge moves to its nearest element boundary and the console names the span;
+    an edge half-way between two boundaries (no nearest span) is refused in one line naming first_deg.
+    Force balance on the one-face pads (N alone): each pad carries N / 4 on the area of one face."""
+    from click.testing import CliRunner
+
+    from deckbridge.cli import main
+
+    grid = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", "load_introduction=kinematic", "loads.T=0",
+            "loads.M=0", "contact.stop.side=none"]
+    with pytest.raises(ModelError, match=r"^contact\.pads\.first_deg = 0\.0: .*half-way between"):
+        build_mesh(load(None, grid + ["contact.pads={count: 4, width_deg: 15, first_deg: 0}"]))
+    m = load(None, grid + ["contact.pads={count: 4, width_deg: 15, first_deg: 7.5}"])
+    me = build_mesh(m)
+    g = m.geometry
+    face = 0.5 * np.sin(2 * np.pi / 24) * 2 * g.radius * g.thickness        # one face of the 24-gon annulus
+    assert me.base_elems.size == 4 and me.table.area.sum() == pytest.approx(4 * face, rel=1e-12)
+    df, _ = solve_model(m, "lagrange", recover=False)
+    s1 = df[(df.step == 1) & (df.surface == "table")]
+    s1 = s1[s1.increment == s1.increment.max()]
+    pad = np.round(((s1.theta_deg.to_numpy() - 7.5 + 45) % 360) // 90).astype(int)
+    for p in range(4):
+        assert s1.force_n.to_numpy()[pad == p].sum() == pytest.approx(m.loads.N / 4, rel=1e-9)
+    with pytest.warns(UserWarning, match=r"snapped to the nearest: pad 1 345-15 deg \(30 deg\)"):
+        snapped = build_mesh(load(None, grid + ["contact.pads={count: 4, width_deg: 20, first_deg: 0}"]))
+    assert snapped.base_elems.size == 8
+    res = CliRunner().invoke(main, ["decks", "--dialect", "nastran", "-o", str(tmp_path / "d"),
+                                    *[a for o in grid + ["contact.pads={count: 4, width_deg: 20, first_deg: 0}"]
+                                      for a in ("--set", o)]])
+    assert res.exit_code == 0 and "deckbridge: warning: contact.pads: 20 deg pads do not land" in res.stderr
+    res = CliRunner().invoke(main, ["decks", "--dialect", "nastran", "-o", str(tmp_path / "e"),
+                                    *[a for o in grid + ["contact.pads={count: 4, width_deg: 15, first_deg: 0}"]
+                                      for a in ("--set", o)]])
+    assert res.exit_code == 2 and res.stderr.count("\n") == 1 and "contact.pads.first_deg = 0" in res.stderr
+    assert not (tmp_path / "e").exists()

@@ -197,12 +197,13 @@ def test_killed_sweep_resumes_with_the_same_summary_computing_only_missing_cases
 
 
 def test_a_failing_case_is_reported_stored_and_not_retried(tmp_path):
-    """k = 1e-6 x k_c cannot carry N within the model's size (the solver says so): that case fails with
-    its message, the others are compared; a rerun reuses the failure instead of solving it again."""
+    """k = 1e-6 x k_c is outside the penalty range (solve.PENALTY_RATIO; the solver used to end it in "no
+    contact possible"): that case fails with its message, the others are compared; a rerun reuses the
+    failure instead of solving it again."""
     model = load(None, TINY)
     out = run_sweep(model, [1e-6, 100.0], tmp_path / "s", progress=False, report=False)
     pen = {d["k_factor"]: d for d in out["summary"]["meshes"][0]["penalty"]}
-    assert "no contact possible" in pen[1e-6]["error"] and not pen[1e-6]["within_tol"]
+    assert "puts the penalty stiffness" in pen[1e-6]["error"] and not pen[1e-6]["within_tol"]
     assert pen[100.0]["max_rel_diff"] < 0.05 and "error" not in pen[100.0]
     assert len(out["run"]["failed_now"]) == 1
     again = run_sweep(model, [1e-6, 100.0], tmp_path / "s", progress=False, report=False)

@@ -20,7 +20,7 @@ import warnings
 import click
 
 from .. import limits, outdir as outdir_mod
-from ..errors import EXIT_INPUT, EXIT_RUN, DeckbridgeError
+from ..errors import EXIT_INPUT, EXIT_RUN, DeckbridgeError, ModelError
 from ..model import Model, load
 from ..readers._checks import compare_up_to
 from ..results import ResultsError
@@ -40,8 +40,13 @@ def _on_sigterm(signum, frame):
     raise Terminated()
 
 
+OPTION_FLAGS = {"k_factor": "--k-factor", "alpha": "--alpha"}   # library argument named in an error -> its flag
+
+
 def _describe(exc: BaseException) -> tuple[str, int]:
     """(one-line message, exit code) of an exception raised by a command."""
+    if isinstance(exc, ModelError) and exc.key in OPTION_FLAGS:
+        exc = ModelError(OPTION_FLAGS[exc.key], exc.value, exc.reason, exc.source)
     if isinstance(exc, DeckbridgeError):
         return one_line(exc), EXIT_RUN if _solver_failure(exc) else exc.exit_code
     if isinstance(exc, ResultsError):

@@ -22,7 +22,7 @@ from ._common import main, model_options
                    "(ParaView series, one VTU per increment); written whole or not at all.")
 def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
     """Solve MODEL with the reference solver and write the contact table, a summary and a VTU file."""
-    from ..solve import run_solve            # the solver: imported by the commands that solve
+    from ..solve import penalty_factor, run_solve   # the solver: imported by the commands that solve
 
     if alpha is not None and k_factor is not None:
         raise DeckbridgeError(f"--alpha = {alpha!r} and --k-factor = {k_factor!r}: give one or the other")
@@ -31,6 +31,8 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
     if method == "penalty" and algorithm is not None:
         raise DeckbridgeError(f"--algorithm = {algorithm!r}: only for --method lagrange")
     k_factor = 1.0 if k_factor is None else k_factor
+    if method == "penalty":
+        penalty_factor(model, k_factor, alpha)          # its range, before any work
     with tqdm(total=model.steps.increments + 2, desc=f"{method} increments", unit="inc", leave=False) as bar:
         def progress(step, inc, lam):
             bar.set_postfix_str(f"step {step} lambda {lam:.3g}")

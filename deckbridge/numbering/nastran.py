@@ -65,7 +65,7 @@ class GapLayout:
 
     ``axis`` is the unit gap axis GA->GB (= -master normal); ``k`` the closed stiffness KA [N/m],
     ``u0`` the clearance [m], ``area`` the slave node's tributary area [m^2], ``k_t`` the tangent
-    stiffness KT [N/m] (the circumferential restraint of that base node).
+    stiffness KT [N/m] (the circumferential restraint of that base node; 0 on a stop node off the pads).
     """
     eid: np.ndarray
     node: np.ndarray
@@ -130,7 +130,8 @@ def gap_layout(mesh: SkirtMesh) -> GapLayout:
         cols["surface"].append(np.full(n, s.surface, dtype=object))
         cols["axis"].append(-np.asarray(s.normal, float))
         cols["k"].append(np.asarray(s.k, float))
-        cols["k_t"].append(np.array([kt_of_node[int(i)] for i in s.nodes], float))
+        # a stop node off the pads (contact.pads) is no table node: no tangential stiffness there
+        cols["k_t"].append(np.array([kt_of_node.get(int(i), 0.0) for i in s.nodes], float))
         cols["u0"].append(np.asarray(s.clearance, float))
         for key in ("area", "theta_deg", "r", "z"):
             cols[key].append(np.asarray(getattr(s, key), float))

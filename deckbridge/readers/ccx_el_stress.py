@@ -34,6 +34,7 @@ import pandas as pd
 from reference_solver.stress import CCX_TO_VOIGT, base_wall, extrapolate_to_corners, nodal_average
 
 from ..errors import DeckbridgeError
+from ..mesh_data import base_wall_areas
 from ..numbering.skirt import bottom_row_index, elem_ids
 from ._files import inp_deck_units
 
@@ -136,7 +137,8 @@ def base_wall_table(stress: pd.DataFrame, mesh) -> pd.DataFrame:
     row is the first n_r * n_theta hexes). Corner stresses of the bottom row are averaged over the row's
     elements sharing a node, then reduced across the wall by :func:`reference_solver.stress.base_wall`:
     columns time, theta_deg, szz_inner_pa, szz_outer_pa, szz_mean_pa (trapezoid over the node radii
-    / thickness), szz_bending_pa ((outer - inner) / 2), tension > 0. Values are Gauss-point
+    / thickness), szz_bending_pa ((outer - inner) / 2), tension > 0, area_m2 the azimuth's base area
+    (:func:`deckbridge.mesh_data.base_wall_areas`). Values are Gauss-point
     extrapolations (estimates).
     """
     bottom = bottom_row_index(mesh)   # imported mesh: the hexahedra standing on the base plane, user ids
@@ -146,7 +148,8 @@ def base_wall_table(stress: pd.DataFrame, mesh) -> pd.DataFrame:
         bw = base_wall(mesh.nodes, mesh.hexes[bottom], avg[:, 2], "z")
         out.append(pd.DataFrame({"time": time, "theta_deg": bw.theta_deg, "szz_inner_pa": bw.inner,
                                  "szz_outer_pa": bw.outer, "szz_mean_pa": bw.mean,
-                                 "szz_bending_pa": bw.bending}))
+                                 "szz_bending_pa": bw.bending,
+                                 "area_m2": base_wall_areas(mesh.nodes, mesh.hexes[bottom], bw.nodes)}))
     return pd.concat(out, ignore_index=True)
 
 
