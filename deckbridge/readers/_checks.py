@@ -7,6 +7,8 @@ and refuses, with one line naming the file and the place:
   (a NaN gap means "not in the file" and is allowed);
 - truncated ccx files: a ``.frd`` without its end record ``9999``, a ``.dat`` whose last print block
   is shorter than the first block of its set;
+- signs that contradict the contact law (:mod:`._contact_law`), named by the reader's ``origin``
+  (file and line, or record);
 - unfinished jobs: results that end before ``steps.lambda_max`` (a job stopped after step 1, a file
   cut in half) unless the comparison asks only for load factors up to where the results end
   (:func:`compare_up_to`, set from ``--load-factor``). lambda_max is the model's, else the one the
@@ -29,6 +31,7 @@ import pandas as pd
 
 from ..errors import DeckbridgeError, InputError
 from ..textsafe import one_line
+from ._contact_law import check_contact_law
 
 _UP_TO: contextvars.ContextVar[float | None] = contextvars.ContextVar("deckbridge_compare_up_to", default=None)
 _REL = 1e-6            # a last load factor within this fraction of lambda_max is the end
@@ -79,7 +82,7 @@ def checked(complete: str | None = None, unknown_load_factor: bool = False) -> C
             else:
                 lam = model.steps.lambda_max if model is not None else _lambda_max(p, complete)
             check_table(df, p, lam, nan_ok=("gap_m", "load_factor") if unknown_load_factor else ("gap_m",))
-            return df
+            return check_contact_law(df, p)
         return wrapper
     return deco
 
