@@ -1,10 +1,12 @@
 """The contact law every read contact table must obey: a sign that contradicts it is a read error.
 
-Per state (source, method, step, increment), with peak = max |sigma_n| and g = max |gap| of that state
-and ``LAW_REL`` = 1e-3, a row is refused when
+Per state (source, method, step, increment), with peak = max |sigma_n| and g = max |gap| of that state,
+``LAW_REL`` = 1e-3 and a gap floor ``GAP_FLOOR`` = 1e-8 x the largest radius of the table (1.5e-8 m on
+the JAR; a Lagrange state whose gaps are all round-off, ~1e-32 m, has no open or closed node by its
+gaps), a row is refused when
 
-- it is in tension (sigma_n > LAW_REL * peak) while closed (gap < -LAW_REL * g: penetrating);
-- it is in compression (sigma_n < -LAW_REL * peak) while open (gap > LAW_REL * g);
+- it is in tension (sigma_n > LAW_REL * peak) while closed (gap < -max(LAW_REL * g, floor): penetrating);
+- it is in compression (sigma_n < -LAW_REL * peak) while open (gap > max(LAW_REL * g, floor));
 - it is in tension at all in a Lagrange-type result (method ``lagrange`` or ``mortar``: no contact
   pulls the skirt down; an open GAPUNI of the mortar deck's stop carries ~1e-2 Pa).
 
@@ -27,6 +29,7 @@ import pandas as pd
 from ..errors import InputError
 
 LAW_REL = 1e-3
+GAP_FLOOR = 1e-8          # times the largest |r| of the table (1 m without radii) [m]
 LAGRANGE_METHODS = ("lagrange", "mortar")
 _STATE = ["source", "method", "step", "increment"]
 EXTRA = ("origin", "preload_pa")     # reader columns only this check uses
@@ -45,9 +48,11 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
     group = df.groupby(keys, sort=False).ngroup().to_numpy() if keys else np.zeros(len(df), int)
     peak = pd.Series(np.abs(s)).groupby(group).transform("max").to_numpy()
     gmax = pd.Series(np.abs(gap)).groupby(group).transform("max").fillna(0.0).to_numpy()
-    tol_s, tol_g = LAW_REL * peak, LAW_REL * gmax
+    r = pd.to_numeric(df["r"], errors="coerce").abs().max() if "r" in df.columns else np.nan
+    floor = GAP_FLOOR * (float(r) if np.isfinite(r) and r > 0 else 1.0)
+    tol_s, tol_g = LAW_REL * peak, np.maximum(LAW_REL * gmax, floor)
     with np.errstate(invalid="ignore"):
-        closed, opened = (gap < -tol_g) & (gmax > 0), (gap > tol_g) & (gmax > 0)
+        closed, opened = gap < -tol_g, gap > tol_g
         tension, compression = s > tol_s, s < -tol_s
     live = method != "linear"
     rules = [
