@@ -70,3 +70,12 @@ def test_azimuths_within_a_turn_wrap(tmp_path):
     q.write_text("theta [rad],sigma_n_pa\n6.3,-1e6\n")
     with pytest.raises(DeckbridgeError, match="line 2, column 'theta \\[rad\\]': '6.3' is outside"):
         readers.read(q)
+
+
+def test_compression_at_an_open_gap_names_its_line(tmp_path, small_model):
+    """COPEN 2 mm (open) with 10 MPa CPRESS: the contact law is broken at that line (contact-law check)."""
+    nodes = slave_nodes(small_model).index.to_numpy()
+    p, _ = _nodes_csv(tmp_path, small_model, {3: f"{nodes[3]},10.0,2.0"})
+    with pytest.raises(DeckbridgeError, match=re.escape(f"{str(p)!r}: line 7: sigma_n = -1e+07 Pa with gap 0.002 m")
+                       + ".*compression in an open contact"):
+        readers.read(p, model=small_model)

@@ -63,20 +63,11 @@ def checked(complete: str | None = None, unknown_load_factor: bool = False) -> C
             p = Path(path)
             if p.exists() and not (p.is_file() or p.is_dir()):
                 raise InputError(f"{str(p)!r}: not a regular file or folder (device, pipe or socket)")
-            try:
+            with reading(p):
                 if complete == "ccx":
                     check_ccx_files(p)
                 with contextlib.redirect_stdout(io.StringIO()):     # libraries that print on bad input
                     df = read(path, model=model, **kw)
-            except (DeckbridgeError, MemoryError, KeyboardInterrupt):
-                raise
-            except RecursionError:
-                raise InputError(f"{str(p)!r}: nested too deeply to read") from None
-            except (ValueError, TypeError, KeyError, IndexError, ArithmeticError, UnicodeError, OSError,
-                    AttributeError, EOFError, AssertionError, RuntimeError, struct.error) as exc:
-                text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-                raise InputError(one_line(f"{str(p)!r}: unreadable ({type(exc).__name__}"
-                                          + (f": {text[:200]}" if text else "") + ")")) from None
             if complete == "never":
                 lam = None
             else:
@@ -85,6 +76,25 @@ def checked(complete: str | None = None, unknown_load_factor: bool = False) -> C
             return check_contact_law(df, p)
         return wrapper
     return deco
+
+
+@contextlib.contextmanager
+def reading(path: Path) -> Iterator[None]:
+    """Within this block, any failure of a parser (ValueError, OverflowError, UnicodeDecodeError,
+    RecursionError, ...) becomes one :class:`InputError` line naming ``path``; deckbridge errors pass
+    through unchanged. Readers that parse several files (a ccx job's .inp, .dat, .frd) wrap each, so
+    that the error names the file at fault, not the one given on the command line."""
+    try:
+        yield
+    except (DeckbridgeError, MemoryError, KeyboardInterrupt):
+        raise
+    except RecursionError:
+        raise InputError(f"{str(path)!r}: nested too deeply to read") from None
+    except (ValueError, TypeError, KeyError, IndexError, ArithmeticError, UnicodeError, OSError,
+            AttributeError, EOFError, AssertionError, RuntimeError, struct.error) as exc:
+        text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+        raise InputError(one_line(f"{str(path)!r}: unreadable ({type(exc).__name__}"
+                                  + (f": {text[:200]}" if text else "") + ")")) from None
 
 
 def _where(df: pd.DataFrame, i: int) -> str:

@@ -42,7 +42,7 @@ from ..numbering.skirt import mesh_node_index
 from ..units import scale
 from ._registry import register
 from .ccx_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
-from ._checks import checked
+from ._checks import checked, reading
 from ..results import with_forces
 
 SOURCE = DIALECTS["calculix"].source   # "ccx"
@@ -105,7 +105,8 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     (``table_from="rf"``, exact force balance) or -CPRESS from the .frd (``"cpress"``, or when the .dat
     has no RF of the table slaves)."""
     inp, dat, frd = stem.with_suffix(".inp"), stem.with_suffix(".dat"), stem.with_suffix(".frd")
-    job, meta_slaves, gaps = _read_meta(inp)
+    with reading(inp):
+        job, meta_slaves, gaps = _read_meta(inp)
     method = _method_of(stem, job)
     if model is not None:
         sl = _slaves_from_model(model)
@@ -121,8 +122,10 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
         raise DeckbridgeError(f"{str(stem)!r}: no model given and no deckbridge deck ({inp.name}) beside the "
                               "results to map node ids to the skirt")
     u = scale(job.get("units") or (model.units if model is not None else "SI"))
-    dat_blocks = _dat_blocks(dat) if dat.is_file() else []
-    coords, frd_blocks = _frd_blocks(frd) if frd.is_file() else ({}, [])
+    with reading(dat):
+        dat_blocks = _dat_blocks(dat) if dat.is_file() else []
+    with reading(frd):
+        coords, frd_blocks = _frd_blocks(frd) if frd.is_file() else ({}, [])
     coords = {n: c / u.length for n, c in coords.items()}
     if model is not None and coords:
         _check_coords(frd, coords, sl, model)

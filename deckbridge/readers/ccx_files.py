@@ -130,6 +130,9 @@ def _dat_blocks(path: Path) -> list[dict]:
                     cur["row_lines"].append(line_no)
             except ValueError:
                 raise DeckbridgeError(f"{str(path)!r}: line {line_no}: unreadable {line.strip()!r}") from None
+        elif parts[0].isdigit():      # a node's row with a value too many or too few: not the end of the block
+            raise DeckbridgeError(f"{str(path)!r}: line {line_no}: {len(parts) - 1} values where the block has 3 "
+                                  f"({line.strip()[:80]!r})")
         else:
             cur = None
     return blocks

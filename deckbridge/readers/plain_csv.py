@@ -231,4 +231,5 @@ def read(path: Path, model=None) -> pd.DataFrame:
         "source": source, "method": method, "step": step, "increment": inc, "load_factor": lam,
         "node": nodes, "surface": surface, "theta_deg": theta, "z": z, "r": r_,
         "sigma_n_pa": sigma, "gap_m": gap, "status": np.where(is_open, "open", "closed"),
+        "origin": [f"{str(path)!r}: {line}" for line in lines],      # for the contact-law check
     }), area)
