@@ -3,7 +3,7 @@
 Real CalculiX 2.20 output of the project's decks (16 x 4 x 1 mesh, default loads) with one value's sign
 flipped: the node-to-surface penalty job's ``*CONTACT PRINT`` pressure of a pressed table node at the end
 of step 1 (its ``.dat`` gap says it penetrates: tension there is impossible), and the mortar job's
-``*NODE PRINT`` RF of a table node (a Lagrange-type contact never pulls). Unaltered, both read; on main
+``*NODE PRINT`` RF of a table node (closed at gap 0: a Lagrange-type contact never pulls there). Unaltered, both read; on main
 the flipped penalty file was read and gave the onset "lambda in [0, 0]".
 """
 
@@ -90,7 +90,7 @@ def test_flipped_mortar_force_is_named_by_its_line(jobs, tmp_path):
         read(dat.parent)
     msg = str(err.value)
     assert re.search(rf"'[^']*JAR_ccx_lagrange\.dat': line {line}: sigma_n = [0-9.e+]+ Pa", msg)
-    assert "tension in a lagrange/mortar contact" in msg
+    assert "node 9, surface table: tension in a closed contact" in msg
 
 
 def test_compression_in_an_open_contact_is_refused(jobs, tmp_path):
