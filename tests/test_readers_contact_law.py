@@ -112,3 +112,17 @@ def test_compression_in_an_open_contact_is_refused(jobs, tmp_path):
     with pytest.raises(InputError, match=rf"JAR_ccx_lagrange.dat': line {row + 1}: .*node {node}, surface table: "
                                          "compression in an open contact"):
         read(dat.parent)
+
+
+def test_abaqus_dat_flipped_cpress_is_named_by_its_line(tmp_path, small_model):
+    """The Abaqus .dat contact print sample (test_readers_misc): node 17 pressed at COPEN -1.19e-6 m in step 1;
+    its CPRESS given the other sign is tension in a closed contact, at the line of that row."""
+    from test_readers_misc import ABAQUS_DAT
+    p = tmp_path / "jar_abaqus.dat"
+    lines = ABAQUS_DAT.splitlines(keepends=True)
+    i = next(k for k, line in enumerate(lines) if line.split()[:2] == ["17", "1.0700E+07"])
+    lines[i] = lines[i].replace(" 1.0700E+07", "-1.0700E+07", 1)
+    p.write_text("".join(lines))
+    with pytest.raises(InputError, match=re.escape(f"{str(p)!r}: line {i + 1}: sigma_n = 1.07e+07 Pa with gap "
+                                                   "-1.19e-06 m") + ".*node 17, surface table: tension in a closed"):
+        read(p, model=small_model)
