@@ -126,3 +126,26 @@ def test_abaqus_dat_flipped_cpress_is_named_by_its_line(tmp_path, small_model):
     with pytest.raises(InputError, match=re.escape(f"{str(p)!r}: line {i + 1}: sigma_n = 1.07e+07 Pa with gap "
                                                    "-1.19e-06 m") + ".*node 17, surface table: tension in a closed"):
         read(p, model=small_model)
+
+
+def test_nastran_gap_force_of_the_other_sign_is_named_by_its_record():
+    """MSC's v10601s.op2 (REFERENCE data): gap 101 closed (u = 1.1494e-4 > U0 = 0) with compX = 33333 N.
+    Read as stored it passes; with that force's sign flipped it is tension in a closed gap, named by its OP2
+    record; cc188b's open gap carrying its PGAP preload F0 = 3.6e5 N still reads (F0 is subtracted)."""
+    from pathlib import Path
+
+    from deckbridge.readers._contact_law import check_contact_law
+    from deckbridge.readers.nastran_op2 import deck_contact_map, read_gap_forces, tidy
+    data = Path(__file__).resolve().parents[2] / "shared" / "data" / "msc_gap_examples"
+    if not (data / "v10601s.op2").is_file():
+        pytest.skip("../shared/data not present")
+    op2 = data / "v10601s.op2"
+    raw = read_gap_forces(op2)
+    raw = raw[raw["table"] == "OEF1X"].reset_index(drop=True)
+    cmap = deck_contact_map(data / "v10601s.bdf")
+    assert len(check_contact_law(tidy(raw, cmap, op2, "nastran", "penalty", 1.0), op2)) == 2
+    raw.loc[raw["element"] == 101, "force_n"] *= -1
+    with pytest.raises(InputError, match=re.escape(f"{str(op2)!r}: OEF1X record of gap element 101, subcase 1, "
+                                                   "increment 1: sigma_n = 33333.3 Pa") + ".*tension in a closed"):
+        check_contact_law(tidy(raw, cmap, op2, "nastran", "penalty", 1.0), op2)
+    assert len(read(data / "cc188b.op2"))

@@ -5,7 +5,9 @@ Per state (source, method, step, increment), with peak = max |sigma_n| and g = m
 the JAR; a Lagrange state whose gaps are all round-off, ~1e-32 m, has no open node by its
 gaps), a row is refused when
 
-- it is in tension (sigma_n > LAW_REL * peak) while closed: penetrating (gap < -max(LAW_REL * g, floor)),
+- it is in tension (sigma_n > LAW_REL * peak) while closed: penetrating (gap < -max(LAW_REL * p, floor),
+  p = the state's largest penetration: a stiff penalty's penetrations are small beside the lift of the
+  open nodes),
   or, in a Lagrange-type result (method ``lagrange`` or ``mortar``), not open (gap <= max(LAW_REL * g,
   floor): a Lagrange contact is closed at gap 0);
 - it is in compression (sigma_n < -LAW_REL * peak) while open (gap > max(LAW_REL * g, floor)).
@@ -52,12 +54,13 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
     group = df.groupby(keys, sort=False).ngroup().to_numpy() if keys else np.zeros(len(df), int)
     peak = pd.Series(np.abs(s)).groupby(group).transform("max").to_numpy()
     gmax = pd.Series(np.abs(gap)).groupby(group).transform("max").fillna(0.0).to_numpy()
+    pmax = pd.Series(np.clip(-gap, 0.0, None)).groupby(group).transform("max").fillna(0.0).to_numpy()
     r = pd.to_numeric(df["r"], errors="coerce").abs().max() if "r" in df.columns else np.nan
     floor = GAP_FLOOR * (float(r) if np.isfinite(r) and r > 0 else 1.0)
-    tol_s, tol_g = LAW_REL * peak, np.maximum(LAW_REL * gmax, floor)
+    tol_s, tol_g, tol_p = LAW_REL * peak, np.maximum(LAW_REL * gmax, floor), np.maximum(LAW_REL * pmax, floor)
     lagrange = np.isin(method, LAGRANGE_METHODS)
     with np.errstate(invalid="ignore"):
-        closed = (gap < -tol_g) | (lagrange & (gap <= tol_g))
+        closed = (gap < -tol_p) | (lagrange & (gap <= tol_g))
         opened = gap > tol_g
         tension, compression = s > tol_s, s < -tol_s
     live = method != "linear"
