@@ -37,7 +37,8 @@ documents = st.one_of(
               st.sampled_from(KEYS), st.sampled_from(HOSTILE)),
     st.sampled_from(["- a\n- b\n", "just text\n", "a: &x [1]\nb: *x\n", "geometry: {radius: 1, radius: 2}\n",
                      "mesh:\n\tn_theta: 4\n", "!!python/object/apply:os.system ['true']\n", "[" * 200 + "\n",
-                     "\ufeffgeometry: {radius: 1.5}\n", "geometry:\n  colour: red\n", "loads: 5\n", "%YAML 9.9\n---\na: 1\n"]),
+                     "\ufeffgeometry: {radius: 1.5}\n", "geometry:\n  colour: red\n", "loads: 5\n",
+                     "%YAML 9.9\n---\na: 1\n"]),
     st.binary(max_size=40).map(lambda b: b.decode("latin-1")))
 
 
@@ -93,8 +94,8 @@ def test_resources_are_refused_before_work(tmp_path_factory, monkeypatch, key, n
 K_FACTOR_XFAIL = pytest.mark.xfail(strict=True, reason="issue 26: --k-factor range, fixed on another branch")
 
 
-@pytest.mark.parametrize("k", [pytest.param("1e-300", marks=K_FACTOR_XFAIL), pytest.param("1e300", marks=K_FACTOR_XFAIL),
-                               "nan", "-1", "0", "inf"])
+@pytest.mark.parametrize("k", [pytest.param("1e-300", marks=K_FACTOR_XFAIL),
+                               pytest.param("1e300", marks=K_FACTOR_XFAIL), "nan", "-1", "0", "inf"])
 def test_k_factor_range(tmp_path, k):
     res, before, after = run(["solve", "--method", "penalty", "--k-factor", k, "-o", "out"] + small_set(), tmp_path)
     refused(res, before, after, "--k-factor", "k_factor", k)

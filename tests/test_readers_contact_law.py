@@ -3,8 +3,8 @@
 Real CalculiX 2.20 output of the project's decks (16 x 4 x 1 mesh, default loads) with one value's sign
 flipped: the node-to-surface penalty job's ``*CONTACT PRINT`` pressure of a pressed table node at the end
 of step 1 (its ``.dat`` gap says it penetrates: tension there is impossible), and the mortar job's
-``*NODE PRINT`` RF of a table node (closed at gap 0: a Lagrange-type contact never pulls there). Unaltered, both read; on main
-the flipped penalty file was read and gave the onset "lambda in [0, 0]".
+``*NODE PRINT`` RF of a table node (closed at gap 0: a Lagrange-type contact never pulls there). Unaltered,
+both read; on main the flipped penalty file was read and gave the onset "lambda in [0, 0]".
 """
 
 import re

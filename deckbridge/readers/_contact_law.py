@@ -74,7 +74,8 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
             row = df.iloc[i]
             where = row["origin"] if "origin" in df.columns and isinstance(row["origin"], str) else repr(str(path))
             state = ", ".join(f"{k} {row[k]}" for k in keys + [c for c in ("node", "surface") if c in df.columns])
+            n = int(bad.sum())
             raise InputError(f"{where}: sigma_n = {raw[i]:.6g} Pa with gap {gap[i]:.6g} m at {state}: {what} "
-                             f"contradicts the contact law ({int(bad.sum())} such rows; a flipped sign or results "
-                             "of another convention)")
+                             f"contradicts the contact law ({n} row{'s' if n > 1 else ''} so: a flipped sign, or "
+                             "results of another sign convention)")
     return df.drop(columns=[c for c in EXTRA if c in df.columns])

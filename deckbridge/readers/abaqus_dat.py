@@ -138,8 +138,8 @@ def parse(text: str, path) -> pd.DataFrame:
             raise DeckbridgeError(f"{str(path)!r}: line {lineno}: {len(nums)} values under "
                                   f"{len(numeric_cols)} columns ({' '.join(numeric_cols)})")
         row = {"step": step, "increment": inc, "fraction": frac, "slave": pair[0], "master": pair[1],
-               "node": int(lab.group(1)), "status_word": next((w for w in words if w in _OPEN_WORDS | _CLOSED_WORDS), ""),
-               "line": lineno}
+               "node": int(lab.group(1)), "line": lineno,
+               "status_word": next((w for w in words if w in _OPEN_WORDS | _CLOSED_WORDS), "")}
         row.update({c: _float(v) for c, v in zip(numeric_cols, nums)})
         rows.append(row)
     return pd.DataFrame(rows)

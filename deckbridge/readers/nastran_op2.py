@@ -272,7 +272,8 @@ def tidy(raw: pd.DataFrame, cmap: pd.DataFrame, path: Path, source: str, method:
         "sigma_n_pa": -raw["force_n"].to_numpy() / m["area"].to_numpy(),
         "gap_m": opening, "status": np.where(opening <= 0.0, "closed", "open"),
         "origin": [f"{str(path)!r}: {tab} record of gap element {e}, subcase {s}, increment {i}" for tab, e, s, i in
-                   zip(raw.get("table", pd.Series("gap", index=raw.index)), raw["element"], raw["subcase"], raw["increment"])],
+                   zip(raw.get("table", pd.Series("gap", index=raw.index)), raw["element"], raw["subcase"],
+                       raw["increment"])],
         "preload_pa": -(m["f0"].to_numpy(float) if "f0" in m else 0.0) / m["area"].to_numpy(float),
     }), m["area"].to_numpy(float))
 
