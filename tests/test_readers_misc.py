@@ -236,7 +236,7 @@ def test_plain_csv_bad_units_values_and_nodes(tmp_path, small_model):
         readers.read(bad_unit, model=small_model)
     bad_value = tmp_path / "v.csv"
     bad_value.write_text("node,CPRESS\n1,2\n2,n/a\n")
-    with pytest.raises(DeckbridgeError, match=r"v\.csv.*column 'CPRESS' row 2: 'n/a' is not a number"):
+    with pytest.raises(DeckbridgeError, match=r"v\.csv': line 3, column 'CPRESS': 'n/a' is not a number"):
         readers.read(bad_value, model=small_model)
     bad_node = tmp_path / "w.csv"
     bad_node.write_text("node,CPRESS\n1,2\n4000,2\n")

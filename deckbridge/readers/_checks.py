@@ -7,6 +7,8 @@ and refuses, with one line naming the file and the place:
   (a NaN gap means "not in the file" and is allowed);
 - truncated ccx files: a ``.frd`` without its end record ``9999``, a ``.dat`` whose last print block
   is shorter than the first block of its set;
+- signs that contradict the contact law (:mod:`._contact_law`), named by the reader's ``origin``
+  (file and line, or record);
 - unfinished jobs: results that end before ``steps.lambda_max`` (a job stopped after step 1, a file
   cut in half) unless the comparison asks only for load factors up to where the results end
   (:func:`compare_up_to`, set from ``--load-factor``). lambda_max is the model's, else the one the
@@ -29,6 +31,7 @@ import pandas as pd
 
 from ..errors import DeckbridgeError, InputError
 from ..textsafe import one_line
+from ._contact_law import check_contact_law
 
 _UP_TO: contextvars.ContextVar[float | None] = contextvars.ContextVar("deckbridge_compare_up_to", default=None)
 _REL = 1e-6            # a last load factor within this fraction of lambda_max is the end
@@ -60,28 +63,38 @@ def checked(complete: str | None = None, unknown_load_factor: bool = False) -> C
             p = Path(path)
             if p.exists() and not (p.is_file() or p.is_dir()):
                 raise InputError(f"{str(p)!r}: not a regular file or folder (device, pipe or socket)")
-            try:
+            with reading(p):
                 if complete == "ccx":
                     check_ccx_files(p)
                 with contextlib.redirect_stdout(io.StringIO()):     # libraries that print on bad input
                     df = read(path, model=model, **kw)
-            except (DeckbridgeError, MemoryError, KeyboardInterrupt):
-                raise
-            except RecursionError:
-                raise InputError(f"{str(p)!r}: nested too deeply to read") from None
-            except (ValueError, TypeError, KeyError, IndexError, ArithmeticError, UnicodeError, OSError,
-                    AttributeError, EOFError, AssertionError, RuntimeError, struct.error) as exc:
-                text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-                raise InputError(one_line(f"{str(p)!r}: unreadable ({type(exc).__name__}"
-                                          + (f": {text[:200]}" if text else "") + ")")) from None
             if complete == "never":
                 lam = None
             else:
                 lam = model.steps.lambda_max if model is not None else _lambda_max(p, complete)
             check_table(df, p, lam, nan_ok=("gap_m", "load_factor") if unknown_load_factor else ("gap_m",))
-            return df
+            return check_contact_law(df, p)
         return wrapper
     return deco
+
+
+@contextlib.contextmanager
+def reading(path: Path) -> Iterator[None]:
+    """Within this block, any failure of a parser (ValueError, OverflowError, UnicodeDecodeError,
+    RecursionError, ...) becomes one :class:`InputError` line naming ``path``; deckbridge errors pass
+    through unchanged. Readers that parse several files (a ccx job's .inp, .dat, .frd) wrap each, so
+    that the error names the file at fault, not the one given on the command line."""
+    try:
+        yield
+    except (DeckbridgeError, MemoryError, KeyboardInterrupt):
+        raise
+    except RecursionError:
+        raise InputError(f"{str(path)!r}: nested too deeply to read") from None
+    except (ValueError, TypeError, KeyError, IndexError, ArithmeticError, UnicodeError, OSError,
+            AttributeError, EOFError, AssertionError, RuntimeError, struct.error) as exc:
+        text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+        raise InputError(one_line(f"{str(path)!r}: unreadable ({type(exc).__name__}"
+                                  + (f": {text[:200]}" if text else "") + ")")) from None
 
 
 def _where(df: pd.DataFrame, i: int) -> str:

@@ -83,7 +83,8 @@ def _float(tok: str) -> float:
 
 
 def parse(text: str, path) -> pd.DataFrame:
-    """Raw rows of every contact table: step, increment, fraction, slave, master, node, variables, status."""
+    """Raw rows of every contact table: step, increment, fraction, slave, master, node, variables, status,
+    line (the row's line number in the file)."""
     rows: list[dict] = []
     step, inc, frac = 1, 0, 1.0
     pair: tuple[str, str] | None = None
@@ -137,7 +138,8 @@ def parse(text: str, path) -> pd.DataFrame:
             raise DeckbridgeError(f"{str(path)!r}: line {lineno}: {len(nums)} values under "
                                   f"{len(numeric_cols)} columns ({' '.join(numeric_cols)})")
         row = {"step": step, "increment": inc, "fraction": frac, "slave": pair[0], "master": pair[1],
-               "node": int(lab.group(1)), "status_word": next((w for w in words if w in _OPEN_WORDS | _CLOSED_WORDS), "")}
+               "node": int(lab.group(1)), "line": lineno,
+               "status_word": next((w for w in words if w in _OPEN_WORDS | _CLOSED_WORDS), "")}
         row.update({c: _float(v) for c, v in zip(numeric_cols, nums)})
         rows.append(row)
     return pd.DataFrame(rows)
@@ -182,4 +184,5 @@ def read(path: Path, model=None) -> pd.DataFrame:
         "theta_deg": located["theta_deg"].to_numpy(), "z": located["z"].to_numpy(), "r": located["r"].to_numpy(),
         "sigma_n_pa": -cpress, "gap_m": copen,
         "status": np.where(is_open, "open", "closed"),
+        "origin": [f"{str(path)!r}: line {n}" for n in raw["line"]],      # for the contact-law check
     }), slave_areas(model, raw["node"].to_numpy(), surface))    # CPRESS x the mesh's tributary area

@@ -42,7 +42,7 @@ from ..numbering.skirt import mesh_node_index
 from ..units import scale
 from ._registry import register
 from .ccx_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
-from ._checks import checked
+from ._checks import checked, reading
 from ..results import with_forces
 
 SOURCE = DIALECTS["calculix"].source   # "ccx"
@@ -105,7 +105,8 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     (``table_from="rf"``, exact force balance) or -CPRESS from the .frd (``"cpress"``, or when the .dat
     has no RF of the table slaves)."""
     inp, dat, frd = stem.with_suffix(".inp"), stem.with_suffix(".dat"), stem.with_suffix(".frd")
-    job, meta_slaves, gaps = _read_meta(inp)
+    with reading(inp):
+        job, meta_slaves, gaps = _read_meta(inp)
     method = _method_of(stem, job)
     if model is not None:
         sl = _slaves_from_model(model)
@@ -121,8 +122,10 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
         raise DeckbridgeError(f"{str(stem)!r}: no model given and no deckbridge deck ({inp.name}) beside the "
                               "results to map node ids to the skirt")
     u = scale(job.get("units") or (model.units if model is not None else "SI"))
-    dat_blocks = _dat_blocks(dat) if dat.is_file() else []
-    coords, frd_blocks = _frd_blocks(frd) if frd.is_file() else ({}, [])
+    with reading(dat):
+        dat_blocks = _dat_blocks(dat) if dat.is_file() else []
+    with reading(frd):
+        coords, frd_blocks = _frd_blocks(frd) if frd.is_file() else ({}, [])
     coords = {n: c / u.length for n, c in coords.items()}
     if model is not None and coords:
         _check_coords(frd, coords, sl, model)
@@ -132,25 +135,30 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     disp: dict[tuple[int, float], dict[int, np.ndarray]] = {}
     cpress: dict[tuple[int, float], dict[int, float]] = {}
     contact: dict[tuple[int, float], list] = {}
+    where: dict[tuple[str, tuple[int, float]], dict[int, str]] = {}     # (what, key) -> node -> "file: line n"
     for b in frd_blocks:
         key = (b["step"], b["time"])
         if b["name"] == "CONTACT":
             cpress.setdefault(key, {}).update({n: v[3] / u.stress for n, v in b["values"].items()})
+            where.setdefault(("cpress", key), {}).update({n: _at(frd, ln) for n, ln in b["line"].items()})
         elif b["name"] == "DISP":
             disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
     for b in dat_blocks:
         key = _key(b["time"], None)
         if b["kind"] == "contact":
-            contact.setdefault(key, []).extend((n, v[0] / u.stress) for n, v in b["rows"])
+            contact.setdefault(key, []).extend((n, v[0] / u.stress, _at(dat, ln))
+                                               for (n, v), ln in zip(b["rows"], b["row_lines"]))
         elif b["kind"] == "forces":
             forces.setdefault(key, {}).update({n: v / u.force for n, v in b["values"].items()})
+            where.setdefault(("rf", key), {}).update({n: _at(dat, ln) for n, ln in b["line"].items()})
         else:
             disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
 
     n2f = method == "penalty" and ("n2f_order" in job or (not gaps and model is not None
                                                           and ccx_penalty_is_n2f(model)))
     if n2f:
-        return _frames(sl, method, lam, _n2f_sigma(stem, sl, job, model, contact), disp, stem)
+        sigmas, origins = _n2f_sigma(stem, sl, job, model, contact)
+        return _frames(sl, method, lam, sigmas, disp, stem, origins)
     table = sl.surface == "table"
     gap_rows = np.ones(sl.node.size, bool) if method == "penalty" else ~table
     mortar_rows = ~gap_rows
@@ -167,10 +175,12 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model)
     force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
 
-    sigmas = {}
+    sigmas, origins = {}, {}
     for step, t in sorted(set(forces) | (set(cpress) if table_from == "cpress" else set())):
         f_t = forces.get((step, t), {})
         sigma = np.full(sl.node.size, np.nan)
+        origin = np.full(sl.node.size, None, object)
+        rf_at, cp_at = where.get(("rf", (step, t)), {}), where.get(("cpress", (step, t)), {})
         rf_rows = gap_rows | (mortar_rows if table_from == "rf" else False)
         for i in np.flatnonzero(rf_rows):
             rf = f_t.get(int(force_of[i]))
@@ -178,6 +188,7 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
                 raise DeckbridgeError(f"{str(dat)!r}: no force RF of node {int(force_of[i])} (for {sl.surface[i]} "
                                       f"slave node {int(sl.node[i])}) at time {t:g}: results of another model?")
             sigma[i] = -float(rf @ sl.normal[i]) / sl.area[i]
+            origin[i] = rf_at.get(int(force_of[i]))
         if mortar_rows.any() and table_from == "cpress":
             cp = cpress.get((step, t), {})
             for i in np.flatnonzero(mortar_rows):
@@ -185,8 +196,9 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
                     raise DeckbridgeError(f"{str(frd)!r}: slave node {int(sl.node[i])} has no CONTACT result at "
                                           f"time {t:g}: results of another model?")
                 sigma[i] = -cp[int(sl.node[i])]
-        sigmas[(step, t)] = sigma
-    return _frames(sl, method, lam, sigmas, disp, stem)
+                origin[i] = cp_at.get(int(sl.node[i]))
+        sigmas[(step, t)], origins[(step, t)] = sigma, origin
+    return _frames(sl, method, lam, sigmas, disp, stem, origins)
 
 
 def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
@@ -208,11 +220,12 @@ def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
     if not contact:
         raise DeckbridgeError(f"{str(stem.with_suffix('.dat'))!r}: no contact stress block (*CONTACT PRINT CSTR) "
                               "of a node-to-surface penalty job")
-    out = {}
+    out, origins = {}, {}
     for key, rows in contact.items():
         sigma = np.zeros(sl.node.size)
+        origin = np.full(sl.node.size, None, object)
         k = 0
-        for node, press in rows:
+        for node, press, at in rows:
             while k < len(order) and order[k][0] != node:
                 k += 1
             if k == len(order):
@@ -222,13 +235,21 @@ def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
             if i is None:
                 raise DeckbridgeError(f"{str(stem)!r}: {order[k][1]} slave node {node} is not a slave of the model")
             sigma[i] = -press * area[order[k]] / sl.area[i]
+            origin[i] = at
             k += 1
-        out[key] = sigma
-    return out
+        out[key], origins[key] = sigma, origin
+    return out, origins
 
 
-def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path) -> pd.DataFrame:
-    """The tidy table from sigma_n per (step, time) and the slave displacements."""
+def _at(path: Path, line: int) -> str:
+    """Where a value was read: ``'file': line n`` (the ``origin`` of :mod:`._contact_law`)."""
+    return f"{str(path)!r}: line {line}"
+
+
+def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path,
+            origins: dict | None = None) -> pd.DataFrame:
+    """The tidy table from sigma_n per (step, time) and the slave displacements; ``origins``: per
+    (step, time) the file and line of each row's value (column ``origin``, dropped after the checks)."""
     frames, counters = [], {}
     for step, t in sorted(sigmas):
         sigma, d_t = sigmas[(step, t)], disp.get((step, t), {})
@@ -242,7 +263,8 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
             "source": SOURCE, "method": method, "step": step, "increment": counters[step],
             "load_factor": 0.0 if step == 1 else lam * (t - (step - 1)), "node": sl.node,
             "surface": sl.surface, "theta_deg": sl.theta, "z": sl.z, "r": sl.r, "sigma_n_pa": sigma,
-            "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open")}), sl.area))
+            "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open"),
+            **({"origin": origins[(step, t)]} if origins else {})}), sl.area))
     if not frames:
         raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
     return pd.concat(frames, ignore_index=True)

@@ -101,17 +101,20 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
 
 # --- ccx files ----------------------------------------------------------------------------------------
 def _dat_blocks(path: Path) -> list[dict]:
-    """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}."""
+    """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}, {node: line number}
+    (contact blocks also ``rows`` [(node, values)] and ``row_lines``, in file order)."""
     blocks, cur = [], None
-    for line in read_text(path).splitlines():
+    for line_no, line in enumerate(read_text(path).splitlines(), 1):
         m = _DAT_HEAD.match(line)
         if m:
-            cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {}}
+            cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {},
+                   "line": {}}
             blocks.append(cur)
             continue
         m = _DAT_CONTACT.match(line)
         if m:
-            cur = {"kind": "contact", "set": "", "time": float(m.group(1)), "values": {}, "rows": []}
+            cur = {"kind": "contact", "set": "", "time": float(m.group(1)), "values": {}, "line": {}, "rows": [],
+                   "row_lines": []}
             blocks.append(cur)
             continue
         parts = line.split()
@@ -121,10 +124,15 @@ def _dat_blocks(path: Path) -> list[dict]:
             try:
                 v = np.array([float(x) for x in parts[1:]])
                 cur["values"][int(parts[0])] = v
+                cur["line"][int(parts[0])] = line_no
                 if "rows" in cur:
                     cur["rows"].append((int(parts[0]), v))
+                    cur["row_lines"].append(line_no)
             except ValueError:
-                raise DeckbridgeError(f"{str(path)!r}: unreadable line {line.strip()!r}") from None
+                raise DeckbridgeError(f"{str(path)!r}: line {line_no}: unreadable {line.strip()!r}") from None
+        elif parts[0].isdigit():      # a node's row with a value too many or too few: not the end of the block
+            raise DeckbridgeError(f"{str(path)!r}: line {line_no}: {len(parts) - 1} values where the block has 3 "
+                                  f"({line.strip()[:80]!r})")
         else:
             cur = None
     return blocks
@@ -133,7 +141,7 @@ def _dat_blocks(path: Path) -> list[dict]:
 def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
     """Node coordinates and DISP/CONTACT result blocks of an ASCII ``.frd``.
 
-    Each block: name, step, inc (ccx increment within the step), time, components, {node: values}.
+    Each block: name, step, inc (ccx increment within the step), time, {node: values}, {node: line number}.
     """
     coords: dict[int, np.ndarray] = {}
     blocks: list[dict] = []
@@ -143,7 +151,7 @@ def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
         raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
     with fh:
         mode, cur, step, inc, time, width = None, None, 0, 0, 0.0, 10
-        for line in fh:
+        for line_no, line in enumerate(fh, 1):
             if line.startswith("    2C"):
                 mode, width = "coords", (5 if line.split()[-1] == "0" else 10)
             elif line.startswith("    1PSTEP"):
@@ -153,7 +161,7 @@ def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
                 time = float(line[12:24])
                 width = 5 if line.split()[-1] == "0" else 10
             elif line.startswith(" -4 "):
-                cur = {"name": line[5:13].strip(), "step": step, "inc": inc, "time": time, "values": {}}
+                cur = {"name": line[5:13].strip(), "step": step, "inc": inc, "time": time, "values": {}, "line": {}}
                 blocks.append(cur)
                 mode = "result"
             elif line.startswith(" -3"):
@@ -164,9 +172,10 @@ def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
                     body = line[3 + width:].rstrip("\n")
                     vals = np.array([float(body[i:i + 12]) for i in range(0, len(body.rstrip()), 12)])
                 except ValueError:
-                    raise DeckbridgeError(f"{str(path)!r}: unreadable line {line.strip()!r}") from None
+                    raise DeckbridgeError(f"{str(path)!r}: line {line_no}: unreadable {line.strip()!r}") from None
                 if mode == "coords":
                     coords[node] = vals
                 else:
                     cur["values"][node] = vals
+                    cur["line"][node] = line_no
     return coords, blocks

@@ -143,7 +143,7 @@ def model_contact_map(model: Model) -> pd.DataFrame:
 
     Columns node, surface, theta_deg, r, z, area, u0, dof_sign (master normal . the spring's
     DOF direction: +1 for table springs on z and an inner stop's springs on +r, -1 for an outer
-    stop).
+    stop), f0 (PGAP preload [N], > 0 compression: 0 in deckbridge decks).
     """
     mesh = build_mesh(model)
     lay = gap_layout(mesh)
@@ -154,6 +154,7 @@ def model_contact_map(model: Model) -> pd.DataFrame:
     return pd.DataFrame({
         "node": lay.node, "surface": lay.surface.astype(str), "theta_deg": lay.theta_deg, "r": lay.r,
         "z": lay.z, "area": lay.area, "u0": lay.u0, "dof_sign": np.sign(np.sum(normal * dof, axis=1)),
+        "f0": 0.0,
     }, index=pd.Index(lay.eid, name="element"))
 
 
@@ -171,7 +172,8 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
     Same columns as :func:`model_contact_map` with area = 1 (so sigma_n is a force [N]); lengths
     converted to metres by the deck's units line (SI without one).
     """
-    unit_length = scale(deck_units(deck) or "SI").length   # deck length per metre
+    units = scale(deck_units(deck) or "SI")
+    unit_length = units.length   # deck length per metre
     try:
         from pyNastran.bdf.bdf import read_bdf
         bdf = read_bdf(str(deck), xref=False, debug=None, validate=False)
@@ -191,10 +193,11 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
             a, b = xyz(el.ga), xyz(el.gb)
             prop = bdf.properties.get(el.pid)
             u0 = float(prop.u0) / unit_length if prop is not None and prop.u0 is not None else 0.0
+            f0 = float(getattr(prop, "f0", 0.0) or 0.0) / units.force if prop is not None else 0.0
             comp = None
         elif el.type == "CELAS2" and el.c1 in (1, 3) and el.nodes[0]:
             a, b = xyz(el.nodes[0]), xyz(el.nodes[1])
-            u0, comp = 0.0, el.c1
+            u0, f0, comp = 0.0, 0.0, el.c1
         else:
             continue
         axis = b - a
@@ -206,11 +209,11 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
         if comp == 1 and np.isfinite(length) and length > 0:
             sign = float(np.sign(-(axis[0] * np.cos(np.radians(th)) + axis[1] * np.sin(np.radians(th))))) or 1.0
         rows[eid] = (int(el.ga if comp is None else el.nodes[0]), surface, th,
-                     float(np.hypot(a[0], a[1])) / unit_length, float(a[2]) / unit_length, 1.0, u0, sign)
+                     float(np.hypot(a[0], a[1])) / unit_length, float(a[2]) / unit_length, 1.0, u0, sign, f0)
     if not rows:
         raise DeckbridgeError(f"{str(deck)!r}: no CGAP or contact CELAS2 elements to map")
     df = pd.DataFrame.from_dict(rows, orient="index",
-                                columns=["node", "surface", "theta_deg", "r", "z", "area", "u0", "dof_sign"])
+                                columns=["node", "surface", "theta_deg", "r", "z", "area", "u0", "dof_sign", "f0"])
     df.index.name = "element"
     return df
 
@@ -248,7 +251,9 @@ def tidy(raw: pd.DataFrame, cmap: pd.DataFrame, path: Path, source: str, method:
          lambda_max: float) -> pd.DataFrame:
     """Tidy rows from raw per-element results (element, subcase, increment, time, force_n, axial_u_m).
 
-    ``force_n`` is compression positive along the gap axis; ``axial_u_m`` the closure.
+    ``force_n`` is compression positive along the gap axis; ``axial_u_m`` the closure. Extra columns
+    for the contact-law check (:mod:`._contact_law`): ``origin`` (the record: table, element, subcase,
+    increment) and ``preload_pa`` (-F0 / area).
     """
     missing = ~raw["element"].isin(cmap.index)
     if missing.any():
@@ -266,6 +271,10 @@ def tidy(raw: pd.DataFrame, cmap: pd.DataFrame, path: Path, source: str, method:
         "theta_deg": m["theta_deg"].to_numpy(), "z": m["z"].to_numpy(), "r": m["r"].to_numpy(),
         "sigma_n_pa": -raw["force_n"].to_numpy() / m["area"].to_numpy(),
         "gap_m": opening, "status": np.where(opening <= 0.0, "closed", "open"),
+        "origin": [f"{str(path)!r}: {tab} record of gap element {e}, subcase {s}, increment {i}" for tab, e, s, i in
+                   zip(raw.get("table", pd.Series("gap", index=raw.index)), raw["element"], raw["subcase"],
+                       raw["increment"])],
+        "preload_pa": -(m["f0"].to_numpy(float) if "f0" in m else 0.0) / m["area"].to_numpy(float),
     }), m["area"].to_numpy(float))
 
 

@@ -12,6 +12,11 @@ compression) in Pa, kPa, MPa, GPa, N/mm2 (no unit: Pa) | optional COPEN/gap (m, 
 load_factor/lambda, step, increment, status, surface, source, method. Node ids map to azimuth
 through the model (the embedded default when none is given); an azimuth column is taken as is.
 Without a load-factor column the file is the end of step 2 (lambda_max of the model, else 1).
+
+Refused, with the file, line, column and value: a cell that is not a number; a node, step or increment
+that is not a whole number (``12.5``); an azimuth outside [-360, 360] deg (``1e6``: a unit or export
+error, not an angle to wrap); two rows of the same (source, method, step, increment, surface, node or
+azimuth) — a duplicate would be averaged downstream.
 """
 
 from __future__ import annotations
@@ -46,6 +51,8 @@ _ROLES = {
     "surface": {"surface"}, "source": {"source"}, "method": {"method"},
 }
 _UNIT_KIND = {"theta": _ANGLE_UNITS, "cpress": _STRESS_UNITS, "sigma_n": _STRESS_UNITS, "gap": _LENGTH_UNITS}
+_WHOLE = ("node", "step", "increment")           # roles that must hold whole numbers
+THETA_LIMIT_DEG = 360.0                         # |azimuth| beyond this is refused, not wrapped
 _BRACKET = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*)\s*[\])]\s*$")
 
 
@@ -112,6 +119,19 @@ def _factor(path, col: str, unit: str | None, table: dict[str, float], default: 
     return table[key]
 
 
+def _data_lines(path: Path, n: int) -> list[str]:
+    """'line k' (1-based, in the file) of each of the ``n`` data rows: the lines after the header that
+    are neither blank nor comments; 'data row k' if that count does not match (quoted line breaks)."""
+    try:
+        with open(path, newline="", encoding="utf-8-sig", errors="replace") as fh:
+            kept = [i for i, line in enumerate(fh, 1) if line.strip() and not line.lstrip().startswith("#")]
+    except OSError:
+        kept = []
+    if len(kept) == n + 1:
+        return [f"line {k}" for k in kept[1:]]
+    return [f"data row {k}" for k in range(1, n + 1)]
+
+
 @register("plain_csv", detect=detect)
 @checked("never")
 def read(path: Path, model=None) -> pd.DataFrame:
@@ -133,12 +153,20 @@ def read(path: Path, model=None) -> pd.DataFrame:
     if df.empty:
         raise DeckbridgeError(f"{str(path)!r}: no contact data (the table has no rows)")
 
+    lines = _data_lines(path, len(df))
+
     def num(role: str) -> np.ndarray:
         col = r[role][0]
         vals = pd.to_numeric(df[col], errors="coerce").to_numpy(float)
-        if np.isnan(vals).any():
-            i = int(np.argmax(np.isnan(vals)))
-            raise DeckbridgeError(f"{str(path)!r}: column {col!r} row {i + 1}: {df[col].iloc[i]!r} is not a number")
+        bad = np.isnan(vals)
+        why = "is not a number"
+        if role in _WHOLE and not bad.any():
+            with np.errstate(invalid="ignore"):
+                bad = ~np.isfinite(vals) | (vals != np.round(vals)) | (np.abs(vals) >= 2**63)
+            why = "is not a whole number"
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise DeckbridgeError(f"{str(path)!r}: {lines[i]}, column {col!r}: {df[col].iloc[i]!r} {why}")
         return vals
 
     stress_role = "cpress" if "cpress" in r else "sigma_n"
@@ -158,7 +186,13 @@ def read(path: Path, model=None) -> pd.DataFrame:
         theta = located["theta_deg"].to_numpy()
     if "theta" in r:
         col, unit = r["theta"]
-        theta = np.mod(num("theta") * _factor(path, col, unit, _ANGLE_UNITS, "deg"), 360.0)
+        theta = num("theta") * _factor(path, col, unit, _ANGLE_UNITS, "deg")
+        far = ~(np.abs(theta) <= THETA_LIMIT_DEG)
+        if far.any():
+            i = int(np.argmax(far))
+            raise DeckbridgeError(f"{str(path)!r}: {lines[i]}, column {col!r}: {df[col].iloc[i]!r} is outside "
+                                  f"[-{THETA_LIMIT_DEG:g}, {THETA_LIMIT_DEG:g}] deg (a unit or export error?)")
+        theta = np.mod(theta, 360.0)
         theta = np.where(theta >= 360.0, 0.0, theta)
     gap = np.full(n, np.nan)
     if "gap" in r:
@@ -184,8 +218,18 @@ def read(path: Path, model=None) -> pd.DataFrame:
     source = df[r["source"][0]].astype(str).to_numpy() if "source" in r else "csv"
     method = df[r["method"][0]].astype(str).to_numpy() if "method" in r else path.stem
     area = slave_areas(model_used, nodes, surface) if "node" in r else np.full(n, np.nan)
+    key = pd.DataFrame({"source": source, "method": method, "step": step, "increment": inc, "surface": surface,
+                        "where": nodes if "node" in r else theta})
+    dup = key.duplicated(keep=False).to_numpy()
+    if dup.any():
+        i, j = np.flatnonzero(dup & key.duplicated(keep="first").to_numpy())[0], np.flatnonzero(dup)[0]
+        col = r["node"][0] if "node" in r else r["theta"][0]
+        raise DeckbridgeError(f"{str(path)!r}: {lines[i]}, column {col!r}: {df[col].iloc[i]!r} repeats {lines[j]} "
+                              f"(same source, method, step, increment and surface): duplicate rows are refused, "
+                              "not averaged")
     return with_forces(pd.DataFrame({
         "source": source, "method": method, "step": step, "increment": inc, "load_factor": lam,
         "node": nodes, "surface": surface, "theta_deg": theta, "z": z, "r": r_,
         "sigma_n_pa": sigma, "gap_m": gap, "status": np.where(is_open, "open", "closed"),
+        "origin": [f"{str(path)!r}: {line}" for line in lines],      # for the contact-law check
     }), area)

@@ -77,7 +77,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
         raise DeckbridgeError(f"{str(src)!r}: sigma_n_pa holds non-finite values")
     if model is not None:
         check_against_model(out, model, src)
-    return out
+    return out.assign(origin=[f"{str(src)!r}: line {i + 2}" for i in range(len(out))])   # for the contact-law check
 
 
 def check_against_model(df: pd.DataFrame, model, path) -> None:

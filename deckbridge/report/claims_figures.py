@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from ..studies.claims import QUANTITIES
+from .figures import plain_text
 
 _COLOURS = {"sigma_n_wall_pa": "#1f77b4", "szz_inner_pa": "#d62728", "szz_outer_pa": "#2ca02c",
             "szz_mean_pa": "#ff7f0e"}
@@ -21,6 +22,7 @@ _NAMES = {"sigma_n_wall_pa": "contact σN", "szz_inner_pa": "σzz inner", "szz_o
           "szz_mean_pa": "σzz mean"}
 
 
+@plain_text
 def claims_figure(verdict: dict, q: pd.DataFrame, title: str = "") -> Figure:
     """The two panels of one variant; ``q``: its rows of the tidy quantities table."""
     fig = Figure(figsize=(10.0, 3.6), dpi=80)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import io
 
+import matplotlib
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -18,6 +19,14 @@ from ..compare.metrics import zone_intervals
 from ..compare.result import PointResult
 
 _MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
+
+
+def plain_text(func):
+    """Decorator of every function that builds or draws a report figure: matplotlib's mathtext is off
+    while it runs, so user text (source and method names, model titles, file names) is drawn as written:
+    a name holding ``$\\frac{`` is text, not a formula that fails to parse. Text objects keep the
+    setting they were made with; tick labels are made when the figure is drawn (:func:`png_bytes`)."""
+    return matplotlib.rc_context({"text.parse_math": False})(func)
 
 
 def colours(labels: list[str]) -> dict[str, str]:
@@ -35,6 +44,7 @@ def _azimuth_axis(ax) -> None:
     ax.set_xlabel("azimuth θ [deg]")
 
 
+@plain_text
 def sigma_n_figure(point: PointResult, labels: list[str], title: str | None = None) -> Figure:
     """sigma_N [MPa] vs azimuth [deg] at one load factor, one curve per source, liftoff zones shaded."""
     fig = Figure(figsize=(9.0, 4.8), dpi=110)
@@ -70,6 +80,7 @@ def sigma_n_figure(point: PointResult, labels: list[str], title: str | None = No
     return fig
 
 
+@plain_text
 def png_bytes(fig: Figure) -> bytes:
     """The figure as PNG bytes."""
     buf = io.BytesIO()
@@ -77,6 +88,7 @@ def png_bytes(fig: Figure) -> bytes:
     return buf.getvalue()
 
 
+@plain_text
 def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
     """Global level (cf. the paper's FIG. 3): von Mises on the unrolled wall (theta, z) per source, and
     the vertical displacement of the base ring vs azimuth (its deformed shape), one curve per source.

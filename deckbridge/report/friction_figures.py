@@ -24,7 +24,7 @@ from .. import quantities as Q
 from ..azimuth import snap_deg
 from ..compare.load_path import centred
 from ..friction_table import state_rows, states
-from .figures import colours
+from .figures import colours, plain_text
 from .load_path_figures import _fig, theta_lambda_map_figure
 
 STICK, SLIP, OPEN = 0, 1, 2
@@ -88,6 +88,7 @@ def friction_data(records: dict, labels: list[str], load_factors: list[float], m
     return out
 
 
+@plain_text
 def tau_sigma_figure(point, labels: list[str], data: dict, azimuth_deg: float):
     """Two panels at one load factor around the tension side: sigma_N [MPa] and tau [MPa] through the wall."""
     fig = _fig(11.0, 4.0)
@@ -115,6 +116,7 @@ def tau_sigma_figure(point, labels: list[str], data: dict, azimuth_deg: float):
     return fig
 
 
+@plain_text
 def stick_map_figure(data: dict, labels: list[str]):
     """theta x lambda stick / slip / open of the table per source."""
     maps = {lab: data[lab]["stick_map"] for lab in labels if lab in data}
@@ -122,6 +124,7 @@ def stick_map_figure(data: dict, labels: list[str]):
                                    "table friction: green stick, orange slip (some node), grey open through the wall")
 
 
+@plain_text
 def resultant_figure(data: dict, labels: list[str]):
     """-Sum F_t along T [N] against lambda per source, the applied T lambda dashed black."""
     fig = _fig(7.0, 4.0)

@@ -11,7 +11,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..compare.load_path import centred
-from .figures import colours
+from .figures import colours, plain_text
 
 
 def _fig(w: float, h: float) -> Figure:
@@ -20,6 +20,7 @@ def _fig(w: float, h: float) -> Figure:
     return fig
 
 
+@plain_text
 def load_path_figure(paths: dict[str, dict], labels: list[str]) -> Figure:
     """Four panels against lambda: lifted arc; sigma_N at the tension and compression side; peak sigma_N
     through the wall and at one node; beam theory dashed (black) where the model is known."""
@@ -59,6 +60,7 @@ def load_path_figure(paths: dict[str, dict], labels: list[str]) -> Figure:
     return fig
 
 
+@plain_text
 def theta_lambda_map_figure(maps: dict[str, dict], labels: list[str], cmap, vmin: float, vmax: float,
                             title: str) -> Figure:
     """One theta x lambda map per source of ``labels`` found in ``maps`` ({'theta_deg', 'load_factor',
@@ -79,12 +81,14 @@ def theta_lambda_map_figure(maps: dict[str, dict], labels: list[str], cmap, vmin
     return fig
 
 
+@plain_text
 def status_map_figure(maps: dict[str, dict], labels: list[str]) -> Figure:
     """theta x lambda contact status per source: 0 closed, 1 partly open through the wall, 2 open."""
     return theta_lambda_map_figure(maps, labels, "RdYlGn_r", 0, 2,
                                    "contact status: green closed, yellow partly open, red open through the wall")
 
 
+@plain_text
 def centred_figure(point, labels: list[str], azimuth_deg: float) -> Figure:
     """sigma_N(theta) with theta relative to the tension side in [-180, 180), a small polar inset."""
     fig = _fig(9.0, 4.6)
@@ -116,6 +120,7 @@ def centred_figure(point, labels: list[str], azimuth_deg: float) -> Figure:
     return fig
 
 
+@plain_text
 def through_wall_figure(point, labels: list[str], azimuth_deg: float) -> Figure:
     """Node sigma_N inner / mid / outer along the azimuth (tension side centred), one panel per source."""
     have = [lab for lab in labels if "sigma_n_nodes_pa" in point.extra.get(lab, {})]

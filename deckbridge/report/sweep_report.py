@@ -14,13 +14,14 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
-from .figures import png_bytes, sigma_n_figure
+from .figures import plain_text, png_bytes, sigma_n_figure
 from .html import SOURCE_HEAD, deckbridge_version, env, fmt, model_rows, mpa, source_rows
 
 FIGURE_BELOW = 0.1       # no sigma_N figure where every k is within 10 % of the tolerance of Lagrange
 _MESH_COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
 
 
+@plain_text
 def metrics_figure(summary: dict) -> Figure:
     """2 x 2 panels of the sweep metrics against the k-factor (log axes), one line per mesh."""
     fig = Figure(figsize=(10.0, 7.4), dpi=100)
