@@ -18,6 +18,7 @@ import yaml
 
 from . import safe_yaml
 from .errors import ModelError
+from .overrides import parse_override
 from .model_fields import (MAX_INCREMENTS, NAME_RE, NU_MAX, UNITS, _choice, _flag, _int, _num,  # noqa: F401
                            _nu, _opt_num, _put, _text)
 
@@ -310,25 +311,6 @@ def _dataclass_type(f: dataclasses.Field):
         if dataclasses.is_dataclass(default):
             return type(default)
     return None
-
-
-def parse_override(text: str) -> tuple[str, Any]:
-    """Parse ``key.sub=value``; the value is read as YAML (numbers, null, strings)."""
-    if "=" not in text:
-        raise ModelError("--set", text, "expected key.sub=value")
-    key, raw = text.split("=", 1)
-    key = key.strip()
-    if not key:
-        raise ModelError("--set", text, "empty key")
-    if len(text) > 4096:
-        raise ModelError("--set", text, "longer than 4096 characters")
-    try:
-        value = safe_yaml.load(raw) if raw.strip() else None
-    except safe_yaml.StrictYAMLError as exc:
-        raise ModelError(key, raw, str(exc).removeprefix("line 1: ")) from None
-    except yaml.YAMLError:
-        value = raw
-    return key, value
 
 
 def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, Any] | list[str]) -> dict:
