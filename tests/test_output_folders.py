@@ -108,6 +108,30 @@ def test_a_successful_rerun_replaces_the_previous_run_and_keeps_other_files(tmp_
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".deckbridge-") and p.name not in outdir.CONTROL]
 
 
+# --- the report of a degenerate point set (Qhull) -----------------------------------------------------------------
+def test_a_one_row_mesh_gets_its_report(tmp_path):
+    """Issue 26: ``run --set mesh.n_z=1`` ended in "RuntimeError: Error in qhull Delaunay" (one row of
+    stress points on the wall map), leaving decks/ and reference_*/."""
+    res = cli(["run", *SMALL, "--set", "mesh.n_z=1", "--set", "outputs.vtu=true", "-o", tmp_path / "r"])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "r" / "report.html").stat().st_size > 0 and (tmp_path / "r" / "summary.json").is_file()
+
+
+@pytest.mark.parametrize("zz", [np.zeros(12), np.r_[np.zeros(11), 1e-13]])
+def test_wall_map_draws_collinear_points(zz):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from deckbridge.report.figures import _wall_map
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    th = np.linspace(0.0, 330.0, 12)
+    sc = _wall_map(ax, th, zz, np.linspace(1.0, 2.0, 12), 2.0)
+    fig.canvas.draw()
+    assert len(sc.get_array()) == 12
+
+
 def test_a_lock_whose_owner_was_killed_is_taken_over_though_its_children_live(tmp_path):
     """Issue 26: the folder's lock (flock) was inherited by forked children, so a SIGKILLed sweep's orphans kept
     it. A real process takes the lock, forks a child that lives on, and is SIGKILLed: the lock is free."""
