@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -109,12 +110,18 @@ def test_a_successful_rerun_replaces_the_previous_run_and_keeps_other_files(tmp_
 
 
 # --- the report of a degenerate point set (Qhull) -----------------------------------------------------------------
-def test_a_one_row_mesh_gets_its_report(tmp_path):
-    """Issue 26: ``run --set mesh.n_z=1`` ended in "RuntimeError: Error in qhull Delaunay" (one row of
-    stress points on the wall map), leaving decks/ and reference_*/."""
-    res = cli(["run", *SMALL, "--set", "mesh.n_z=1", "--set", "outputs.vtu=true", "-o", tmp_path / "r"])
+@pytest.mark.parametrize("extra", [[], ["--with-ccx", "--set", "steps.increments=30", "--set", "mesh.n_theta=12"]],
+                         ids=["reference", "with-ccx"])
+def test_a_one_row_mesh_gets_its_report(tmp_path, extra):
+    """Issue 26 / 21.9: ``run --set mesh.n_z=1`` and ``run --with-ccx --set steps.increments=1500`` on a tiny
+    mesh ended in "RuntimeError: Error in qhull Delaunay" (one row of von Mises points on the wall map) and
+    left decks/ and reference_*/; the same with 30 increments, ccx included."""
+    if extra and shutil.which("ccx") is None:
+        pytest.skip("ccx not installed")
+    res = cli(["run", *SMALL, "--set", "mesh.n_z=1", "--set", "outputs.vtu=true", *extra, "-o", tmp_path / "r"])
     assert res.exit_code == 0, res.output
     assert (tmp_path / "r" / "report.html").stat().st_size > 0 and (tmp_path / "r" / "summary.json").is_file()
+    assert (tmp_path / "r" / "ccx").is_dir() == bool(extra)
 
 
 @pytest.mark.parametrize("zz", [np.zeros(12), np.r_[np.zeros(11), 1e-13]])
@@ -130,6 +137,66 @@ def test_wall_map_draws_collinear_points(zz):
     sc = _wall_map(ax, th, zz, np.linspace(1.0, 2.0, 12), 2.0)
     fig.canvas.draw()
     assert len(sc.get_array()) == 12
+
+
+# --- modes, full disks, sizes no machine holds ------------------------------------------------------------------
+def test_case_tables_get_the_mode_of_a_plain_open(tmp_path):
+    """Issue 26: CSVs of sweep cases were written 0600 (mkstemp) where open() gives 0666 & ~umask."""
+    from deckbridge.studies.store import CaseStore
+    old = os.umask(0o022)
+    try:
+        store = CaseStore(tmp_path)
+        store._write_csv(store.dir / "case.csv", "node,sigma_n_pa\n1,2\n")
+        outdir.write_text(tmp_path / "plain.txt", "x")
+    finally:
+        os.umask(old)
+    assert (store.dir / "case.csv").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "plain.txt").stat().st_mode & 0o777 == 0o644
+
+
+@pytest.fixture
+def full_disk(tmp_path):
+    """A 256 kB tmpfs (root only); skipped where it cannot be mounted."""
+    mnt = tmp_path / "full"
+    mnt.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", str(mnt)],
+                      capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a tmpfs here (not root)")
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], capture_output=True)
+
+
+def test_a_full_disk_names_the_path(full_disk):
+    """Issue 26: "No space left on device" without the path. A real full disk (tmpfs), a real sweep."""
+    out = full_disk / "study"
+    res = cli(["sweep", *SMALL, "--set", "mesh.n_theta=48", "--k-factors", "1,10", "--workers", "1", "-o", out])
+    assert res.exit_code == 1, res.output
+    line = res.stderr.replace("\r", "\n").splitlines()[-1]          # after the progress bar's lines
+    assert line.startswith("deckbridge: error: ") and "No space left on device" in line and str(out) in line, line
+
+
+def test_a_file_size_limit_names_the_path(tmp_path):
+    """The same without root: a real EFBIG (RLIMIT_FSIZE) while the decks are written, in a subprocess."""
+    code = ("import resource, signal, sys; signal.signal(signal.SIGXFSZ, signal.SIG_IGN); "
+            "resource.setrlimit(resource.RLIMIT_FSIZE, (20000, 20000)); "
+            "from deckbridge.cli import main; sys.argv = ['deckbridge'] + sys.argv[1:]; main()")
+    out = tmp_path / "decks"
+    res = subprocess.run([sys.executable, "-c", code, "decks", *SMALL, "--set", "mesh.n_theta=64", "-o", str(out)],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 1, res.stderr
+    assert res.stderr.startswith("deckbridge: error: ") and "File too large" in res.stderr and str(out) in res.stderr
+    assert not out.exists()
+
+
+def test_a_mesh_no_machine_holds_is_refused_naming_the_keys(tmp_path):
+    """Issue 26: "Unable to allocate 3.07 EiB": with --allow-large, a mesh of 10^7 x 10^5 went to numpy."""
+    res = cli(["sweep", "--allow-large", "--set", "mesh.n_theta=10000000", "--set", "mesh.n_z=100000",
+               "--k-factors", "1", "-o", tmp_path / "s"])
+    line = error_line(res, 2)
+    assert "mesh.n_theta x mesh.n_z x mesh.n_r = 10000000 x 100000 x" in line and "memory and swap" in line
+    assert "Unable to allocate" not in line and not (tmp_path / "s").exists()
 
 
 def test_a_lock_whose_owner_was_killed_is_taken_over_though_its_children_live(tmp_path):
