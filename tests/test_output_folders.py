@@ -70,6 +70,14 @@ def test_a_folder_of_the_users_files_is_refused(tmp_path, command):
     assert snapshot(tmp_path) == before                       # not a byte written, no marker added
 
 
+def test_run_into_the_current_folder_is_refused(tmp_path, monkeypatch):
+    """``run -o .`` where the user keeps a summary.json of their own."""
+    (tmp_path / "summary.json").write_text('{"mine": true}')
+    monkeypatch.chdir(tmp_path)
+    assert "-o = '.': holds files" in error_line(cli(["run", *SMALL, "-o", "."]), 2)
+    assert sorted(os.listdir(tmp_path)) == ["summary.json"]
+
+
 def test_force_writes_beside_the_users_files_and_a_rerun_needs_no_force(tmp_path):
     (tmp_path / "notes.txt").write_text("mine")
     assert cli(["decks", *SMALL, "-o", tmp_path, "--force"]).exit_code == 0
