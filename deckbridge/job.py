@@ -8,6 +8,10 @@ comparison and report. Layout of the output folder DIR:
                              (with contact.tangential: friction also friction.csv, deckbridge/friction_table.py)
   DIR/ccx/                   CalculiX jobs and results, <job>.pvd + <job>_NNN.vtu (--with-ccx)
   DIR/report.html, sigma_n.png, discrepancy.csv, summary.json   the comparison
+
+The job is all or nothing (:func:`deckbridge.outdir.replacing`): the previous run's entries are set aside
+first; a failed or interrupted job (Ctrl-C, SIGTERM: ccx is stopped) leaves DIR as it was, a successful one
+removes what the previous run wrote and this one did not (a stale ``ccx/``). Other files in DIR stay.
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from .compare.onsets import describe
 from .friction_table import read_friction
 from .mesh import build_mesh
 from .model import Model
-from .outdir import prepare
+from .outdir import prepare, replacing
 from .paraview_ccx import write_ccx_series
 from .render import render_all
 from .readers.reference import read_globals
@@ -33,12 +37,18 @@ from .solve import condense_model, solve_system, write_outputs
 from .wall_stress import ccx_wall, reference_section_onset, reference_wall, write_wall
 
 Echo = Callable[[str], None]
+LAYOUT = ("decks", "reference_penalty", "reference_lagrange", "ccx", "report.html", "sigma_n.png",
+          "discrepancy.csv", "summary.json")          # what a job writes into DIR (set aside by a re-run)
 
 
 def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo = print,
             ccx_timeout_s: float = 1800.0) -> dict:
-    """Run the main job on ``model`` into ``outdir``; return {'report': path, 'summary': dict, ...}."""
-    out = prepare(outdir)
+    """Run the main job on ``model`` into ``outdir``, all or nothing; return {'report': path, ...}."""
+    with replacing(outdir, "run", LAYOUT) as out:
+        return _job(model, out, with_ccx, echo, ccx_timeout_s)
+
+
+def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: float) -> dict:
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
     decks = render_all(model, out / "decks", mesh=mesh,

@@ -6,7 +6,9 @@ and bytes = BASE_BYTES + BYTES_PER_DOF x dof, a line above the peak resident mem
 reference solver (README: 0.25 GB at 20k dof, 0.96 GB at 100k, 3.8 GB at 400k, 10.5 GB at 1M dof).
 A model whose estimate exceeds the memory available now (psutil when installed, else /proc/meminfo
 MemAvailable) is refused with the estimate in the message, unless ``--allow-large`` is given or the
-environment sets ``DECKBRIDGE_ALLOW_LARGE=1``. Other caps bound work that memory does not: k-factors,
+environment sets ``DECKBRIDGE_ALLOW_LARGE=1``. Even then, a mesh whose stiffness matrix alone
+(FLOOR_BYTES_PER_DOF, well below the measured peak) exceeds the machine's memory and swap together is
+refused naming the mesh keys: numpy would fail with "Unable to allocate ... EiB". Other caps bound work that memory does not: k-factors,
 cases of a study, workers, liftoff tolerance (``steps.increments`` is capped in the model).
 """
 
@@ -18,6 +20,7 @@ from .errors import InputError
 
 BASE_BYTES = 0.15e9          # interpreter, numpy/scipy, pandas [bytes]
 BYTES_PER_DOF = 10.5e3       # measured peak, factorisation + Schur complement included [bytes/dof]
+FLOOR_BYTES_PER_DOF = 1e3    # the sparse stiffness alone (>= 81 nonzeros x 12 bytes per row) [bytes/dof]
 ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
 MAX_K_FACTORS = 100
 MAX_CASES = 2000             # cases of one study (mesh variants x (k-factors + 1))
@@ -55,6 +58,19 @@ def available_bytes() -> float | None:
     return None
 
 
+def total_bytes() -> float | None:
+    """Physical memory plus swap of this machine [bytes]: what no process can exceed; None when unknown."""
+    total = 0.0
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith(("MemTotal:", "SwapTotal:")):
+                    total += float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        return None
+    return total or None
+
+
 def allow_large_from_env() -> bool:
     return os.environ.get(ALLOW_ENV, "").strip().lower() in ("1", "true", "yes")
 
@@ -71,6 +87,13 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
         n = 3 * int(read_mesh_file(m.file).node_ids.size)
     need = copies * estimate_bytes(n)
     if allow_large or allow_large_from_env():
+        total = total_bytes()
+        if total is not None and copies * FLOOR_BYTES_PER_DOF * n > total:     # --allow-large cannot help
+            name = (f"mesh.file = {str(m.file)!r}" if getattr(m, "file", None) is not None else
+                    f"mesh.n_theta x mesh.n_z x mesh.n_r = {m.n_theta} x {m.n_z} x {m.n_r}")
+            raise InputError(f"{name}{what}: {n:,} dofs need at least {copies * FLOOR_BYTES_PER_DOF * n / 1e9:.3g} "
+                             f"GB (the stiffness matrix alone), more than this machine's memory and swap "
+                             f"({total / 1e9:.3g} GB), even with --allow-large: use a coarser mesh")
         return need
     have = available_bytes()
     if have is not None and need > have:

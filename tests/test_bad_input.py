@@ -307,15 +307,46 @@ def test_two_sweeps_into_one_folder(tmp_path):
 
 
 def test_stale_temporaries_are_removed(tmp_path):
+    """Only the project's own temporaries (``.deckbridge-`` names) go, and only in a folder it marked."""
     cases = tmp_path / "cases"
     cases.mkdir(parents=True)
-    (tmp_path / ".staging-abc123").mkdir()
-    (tmp_path / ".staging-abc123" / "half.csv").write_text("1,2")
-    (cases / ".x1_lagrange.csv.k2j3h4l5").write_text("node,sigma\n1,")
+    (tmp_path / ".deckbridge-staging-abc12345").mkdir()
+    (tmp_path / ".deckbridge-staging-abc12345" / "half.csv").write_text("1,2")
+    (cases / ".deckbridge-tmp-x1_lagrange.csv.k2j3h4l5").write_text("node,sigma\n1,")
     (cases / "x1_lagrange.csv").write_text("kept")
+    assert outdir.remove_stale(tmp_path) == []                 # not marked: nothing is the project's
+    outdir.mark(tmp_path, "sweep")
     removed = outdir.remove_stale(tmp_path)
     assert len(removed) == 2 and sorted(p.name for p in cases.iterdir()) == ["x1_lagrange.csv"]
-    assert [p.name for p in tmp_path.iterdir()] == ["cases"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".deckbridge-output", "cases"]
+
+
+USER_FILES = {".staging-notes/todo.txt": "call Bob", ".env.backup1": "KEY=1", ".notes.swp123": "swap",
+              "cases/.mine.csv.backup1": "1,2"}
+
+
+def _user_files(folder: Path) -> dict:
+    for name, text in USER_FILES.items():
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / name).write_text(text)
+    return {name: (folder / name).read_text() for name in USER_FILES}
+
+
+def test_sweep_keeps_the_users_dot_files(tmp_path):
+    """Issue 26: a sweep (forced into the user's folder, then resumed) deleted .staging-notes/todo.txt,
+    .env.backup1 and .notes.swp123 as "stale temporaries"; it removes only its own ``.deckbridge-`` ones."""
+    out = tmp_path / "study"
+    out.mkdir()
+    want = _user_files(out)
+    one_error_line(cli(["sweep", *SMALL, "--k-factors", "1", "--workers", "1", "-o", out]), 2,
+                   "holds files deckbridge did not write")
+    res = cli(["sweep", *SMALL, "--k-factors", "1", "--workers", "1", "-o", out, "--force"])
+    assert res.exit_code == 0, res.output
+    (out / "cases" / ".deckbridge-tmp-x.csv.ab12cd34").write_text("half")     # a killed writer's temporary
+    res = cli(["sweep", *SMALL, "--k-factors", "1", "--workers", "1", "-o", out])    # resumed: its folder now
+    assert res.exit_code == 0, res.output
+    assert {name: (out / name).read_text() for name in USER_FILES} == want
+    assert not (out / "cases" / ".deckbridge-tmp-x.csv.ab12cd34").exists()
 
 
 # --- 7./9. tracebacks and message shape ----------------------------------------------------------------------

@@ -136,3 +136,62 @@ def test_a_worker_that_dies_ends_the_sweep_in_one_line_and_the_rest_resumes(tmp_
     assert res.exit_code == 0, res.stderr
     run = json.loads((tmp_path / "s" / "run.json").read_text())
     assert len(run["computed"]) + len(run["reused"]) == 4 and len(run["computed"]) >= 1
+
+
+def _children(pid: int) -> list[int]:
+    """Child pids of ``pid`` (every thread's, /proc)."""
+    from pathlib import Path
+    kids = []
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        kids += [int(x) for x in (task / "children").read_text().split()]
+    return kids
+
+
+def _running(pid: int) -> bool:
+    """``pid`` exists and is not a zombie."""
+    from pathlib import Path
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"
+
+
+@pytest.mark.skipif(not __import__("sys").platform.startswith("linux"), reason="/proc and fork: Linux")
+def test_sigkilled_sweep_takes_its_workers_along_and_the_rerun_is_not_blocked(tmp_path):
+    """Issue 26: ``sweep ... -o out & kill -KILL $!`` left both forked workers alive (re-parented) holding the
+    folder's lock: the re-run failed with "another sweep (pid <dead parent>) is writing here". A real SIGKILL of
+    the real command: its workers end within seconds, and the same command then runs to the end."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    exe = Path(sys.executable).parent / "deckbridge"
+    out = tmp_path / "study"
+    args = [str(exe), "sweep", *[x for s in TINY for x in ("--set", s)], "--set", "steps.increments=30",
+            "--k-factors", "0.1,0.3,1,3,10,30,100", "--workers", "2", "--executor", "local", "-o", str(out)]
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    try:
+        t0 = time.monotonic()
+        while len(workers := _children(proc.pid)) < 2:
+            assert proc.poll() is None and time.monotonic() - t0 < 90, "the sweep never forked its workers"
+            time.sleep(0.05)
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=10)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    t0 = time.monotonic()
+    while [w for w in workers if _running(w)] and time.monotonic() - t0 < 10:
+        time.sleep(0.1)
+    left = [w for w in workers if _running(w)]
+    for w in left:                                # do not leave them behind if the test fails
+        os.kill(w, signal.SIGKILL)
+    assert not left, f"workers {left} outlived their killed client"
+    again = subprocess.run(args, capture_output=True, text=True, env=env, timeout=300)
+    assert again.returncode == 0, again.stderr[-2000:]
+    assert json.loads((out / "run.json").read_text())["computed"] is not None

@@ -4,7 +4,8 @@ Every failure ends in one line ``deckbridge: error: ...`` on stderr (control cha
 most a few hundred characters) and an exit code: 2 for usage, model and input-file errors
 (:class:`~deckbridge.errors.InputError`), 1 for failures while running on valid input
 (:class:`~deckbridge.errors.RunError`: solver diverged, tipped over, ccx failed) and for unexpected
-errors. ``--debug`` (or DECKBRIDGE_DEBUG=1) shows the traceback. SIGTERM is handled like Ctrl-C.
+errors. ``--debug`` (or DECKBRIDGE_DEBUG=1) shows the traceback. SIGTERM is handled like Ctrl-C: both end
+in one line ``deckbridge: error: interrupted ...`` and exit 1.
 Warnings raised during a command (numpy RuntimeWarnings, say) are shown after it succeeds; a failing
 command shows its error line alone.
 """
@@ -92,8 +93,15 @@ class _Group(click.Group):
             with warnings.catch_warnings(record=True) as caught:   # the filters in force stay as they are
                 try:
                     result = super().invoke(ctx)
-                except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException, KeyboardInterrupt):
+                except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
                     raise
+                except KeyboardInterrupt as exc:              # Ctrl-C / SIGTERM: one line, not click's "Aborted!"
+                    if debug:
+                        traceback.print_exc()
+                    what = "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted (SIGINT, Ctrl-C)"
+                    click.echo(f"deckbridge: error: {what}; running solvers stopped, unfinished outputs removed",
+                               err=True)
+                    ctx.exit(EXIT_RUN)
                 except (Exception, SystemExit) as exc:  # noqa: BLE001  (every failure ends as one line)
                     if debug:
                         traceback.print_exc()
@@ -140,14 +148,16 @@ def model_options(func):
 
 def guard_outputs(command: click.Command) -> None:
     """Give a command with an ``-o`` folder a ``--force`` flag and wrap it: the folder is checked before any
-    work (:func:`deckbridge.outdir.check_target`), marked as written by this command on success, and
-    removed again when the command fails before writing a file into a folder it created."""
+    work (:func:`deckbridge.outdir.check_target`: a folder of another command, or one holding files deckbridge
+    did not write, is refused without ``--force``), marked as written by this command before it runs (a killed
+    sweep resumes), and when the command fails having written nothing, removed again if it created it, or
+    left without the marker and lock it added."""
     names = {p.name for p in command.params}
     if "outdir" not in names or command.callback is None:
         return
     if "force" not in names:
         command.params.append(click.Option(["--force"], is_flag=True,
-                                           help="Write into a folder another deckbridge command wrote."))
+                                           help="Write into a folder another deckbridge command wrote, or one holding files deckbridge did not write."))
     callback = command.callback
 
     @functools.wraps(callback)
@@ -158,15 +168,20 @@ def guard_outputs(command: click.Command) -> None:
         sources = tuple(kwargs.get("sources") or ())
         out = outdir_mod.check_target(target, command.name, force=force, sources=sources)
         existed = out.exists()
+        before = outdir_mod.entries(out) if existed else set()
+        created = [n for n in outdir_mod.CONTROL if not (out / n).exists()]
         lfs = [lf for lf in (kwargs.get("load_factors") or ()) if lf == lf]
         try:
+            outdir_mod.mark(outdir_mod.prepare(out), command.name)  # marked first: a killed sweep resumes
             with compare_up_to(max(lfs) if lfs else None):     # results may end at the last one asked for
                 result = callback(*args, **kwargs)
         except BaseException:
             if not existed:
                 outdir_mod.remove_if_empty(out)
+            elif out.is_dir() and outdir_mod.entries(out) == before:
+                for name in created:                           # nothing written: the folder as it was
+                    (out / name).unlink(missing_ok=True)
             raise
-        outdir_mod.mark(out, command.name)
         return result
 
     command.callback = guarded

@@ -117,10 +117,7 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
             seam = th < 1e-6                                # repeat the 0 deg column at 360 deg
             th, zz, vv = np.append(th, th[seam] + 360.0), np.append(zz, zz[seam]), np.append(vv, vv[seam])
             ax = fig.add_subplot(grid[0, k])
-            span = max(float(np.ptp(zz)), 1e-12)
-            tri = Triangulation(th / 360.0, zz / span)
-            sc = ax.tripcolor(Triangulation(th, zz, tri.triangles), vv, shading="gouraud", cmap="viridis",
-                              vmin=0.0, vmax=top)
+            sc = _wall_map(ax, th, zz, vv, top)
             ax.set_xlim(0, 360)
             ax.set_xticks(np.arange(0, 361, 90))
             ax.set_xlabel("θ [deg]")
@@ -146,3 +143,26 @@ def global_figure(fields: dict[str, dict], labels: list[str]) -> Figure | None:
         ax.grid(True, lw=0.4, alpha=0.6)
         ax.legend(fontsize=8)
     return fig
+
+
+def _wall_map(ax, th: np.ndarray, zz: np.ndarray, vv: np.ndarray, top: float):
+    """Colour map of ``vv`` [MPa] over the unrolled wall (θ [deg], z [m]); return the mappable.
+
+    Gouraud triangles over a Delaunay triangulation where one exists; points coloured by value where the
+    set is degenerate for Qhull (one row of points: ``mesh.n_z = 1``; collinear or repeated points), so
+    the report is drawn whatever the mesh, with the fallback said in the axes."""
+    span = max(float(np.ptp(zz)), 1e-12)
+    finite = np.isfinite(th) & np.isfinite(zz) & np.isfinite(vv)
+    th, zz, vv = th[finite], zz[finite], vv[finite]
+    pts = np.unique(np.round(np.column_stack([th / 360.0, zz / span]), 9), axis=0)
+    if len(pts) >= 3 and np.linalg.matrix_rank(pts[1:] - pts[0], tol=1e-9) == 2:
+        try:
+            tri = Triangulation(th / 360.0, zz / span)
+            return ax.tripcolor(Triangulation(th, zz, tri.triangles), vv, shading="gouraud", cmap="viridis",
+                                vmin=0.0, vmax=top)
+        except (RuntimeError, ValueError):     # Qhull: singular or flat input after all
+            pass
+    ax.text(0.5, 0.02, "points (no surface: degenerate point set)", transform=ax.transAxes, ha="center",
+            fontsize=7)
+    return ax.scatter(th, zz, c=vv, s=12, cmap="viridis", vmin=0.0, vmax=top)
+

@@ -36,14 +36,53 @@ from ..errors import RunError
 from ..limits import check_workers
 
 _INHERITED = {}                      # in a worker: the condensed system it solves cases on
+_LIFELINE: dict[int, tuple[int, int]] = {}   # client pid -> (read, write) ends of the pipe its workers watch
+
+
+def _lifeline() -> None:
+    """Before forking workers: the client's pipe (made once per process). The client alone keeps its write
+    end open; a worker sees end-of-file when the client is gone, however it ended (SIGKILL included)."""
+    if os.getpid() not in _LIFELINE:
+        _LIFELINE.clear()                       # a forked copy of another client: not its pipe
+        _LIFELINE[os.getpid()] = os.pipe()      # not inheritable across exec (ccx never holds it)
+    _INHERITED["client"] = os.getpid()
+
+
+def _die_with_client() -> None:
+    """In a worker: end this process as soon as the client has ended (end-of-file on the lifeline, or this
+    process re-parented), so no orphan keeps computing or holds the study folder. A thread rather than
+    prctl(PR_SET_PDEATHSIG): that signal follows the client's *thread* that forked, and the workers are
+    forked from a short-lived thread (:func:`_in_fresh_thread`)."""
+    import select
+
+    client = _INHERITED.get("client") or os.getppid()
+    ends = _LIFELINE.get(client)
+    if ends is not None:
+        os.close(ends[1])                       # this worker's copy of the write end
+    read_end = None if ends is None else ends[0]
+
+    def watch():
+        while True:
+            if read_end is not None:
+                ready = select.select([read_end], [], [], 0.5)[0]
+                if ready and not os.read(read_end, 1):
+                    os._exit(1)
+            else:
+                threading.Event().wait(0.5)
+            if os.getppid() != client:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="deckbridge-lifeline", daemon=True).start()
 
 
 def _worker_init() -> None:
     """Every worker: one BLAS / OpenMP thread (one worker per core); Ctrl-C left to the client (which
-    stops the workers), SIGTERM ends a worker plainly (not the client's handler, inherited by fork)."""
+    stops the workers), SIGTERM ends a worker plainly (not the client's handler, inherited by fork); the
+    worker ends with the client (:func:`_die_with_client`)."""
     from .tasks import one_blas_thread
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    _die_with_client()
     _INHERITED["blas"] = one_blas_thread()
 
 
@@ -130,6 +169,7 @@ class LocalExecutor:
 
     def _fork(self, n: int, initializer=_worker_init, initargs=()) -> ProcessPoolExecutor:
         ctx = multiprocessing.get_context(self.start_method)
+        _lifeline()
         pool = ProcessPoolExecutor(n, mp_context=ctx, initializer=initializer, initargs=initargs)
         with warnings.catch_warnings():
             # Python 3.12 warns on fork() from a process with threads (the progress bar's monitor): the

@@ -17,15 +17,13 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
-import os
-import tempfile
 import time
 from pathlib import Path
 
 import pandas as pd
 
 from ..errors import DeckbridgeError
-from ..outdir import prepare, write_text
+from ..outdir import cannot_write, prepare, write_file, write_text
 from ..results import conform
 from .cases import Case
 
@@ -93,18 +91,18 @@ class CaseStore:
         return self.dir / f"{case.case_id}.wall.csv"
 
     def _write_csv(self, path: Path, frame: pd.DataFrame | str) -> None:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=self.dir)
+        """Write a table atomically (:func:`deckbridge.outdir.write_file`: mode of a plain open(), path named
+        on any OSError)."""
+        write_file(path, (lambda fh: fh.write(frame)) if isinstance(frame, str) else
+                   (lambda fh: frame.to_csv(fh, index=False)), newline="", encoding="utf-8")
+
+    def _log(self, entry: dict) -> None:
+        path = self.dir / "log.jsonl"
         try:
-            with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
-                if isinstance(frame, str):
-                    fh.write(frame)
-                else:
-                    frame.to_csv(fh, index=False)
-            os.replace(tmp, path)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
+            with open(path, "a") as fh:
+                fh.write(json.dumps(entry) + "\n")
+        except OSError as exc:
+            raise cannot_write(path, exc) from None
 
     def put(self, case: Case, table: pd.DataFrame, summary: dict, run_id: str, extra: dict | None = None,
             wall: pd.DataFrame | None = None, text: str | None = None) -> Path:
@@ -122,9 +120,7 @@ class CaseStore:
                "spec": case.spec, "summary": summary, "rows": int(len(table)), "table": tp.name,
                "table_sha256": _sha256(tp), "run_id": run_id, "stored_at": time.time(), **(extra or {})}
         write_text(self.meta_path(case), json.dumps(rec, indent=1, default=str) + "\n")
-        with open(self.dir / "log.jsonl", "a") as fh:
-            fh.write(json.dumps({"run_id": run_id, "case_id": case.case_id,
-                                 "wall_time_s": (extra or {}).get("wall_time_s")}) + "\n")
+        self._log({"run_id": run_id, "case_id": case.case_id, "wall_time_s": (extra or {}).get("wall_time_s")})
         return tp
 
     def put_failed(self, case: Case, error: str, run_id: str) -> Path:
@@ -134,8 +130,7 @@ class CaseStore:
         rec = {"case_id": case.case_id, "label": case.label, "mesh": case.mesh.label, "spec": case.spec,
                "error": str(error), "run_id": run_id, "stored_at": time.time()}
         write_text(self.meta_path(case), json.dumps(rec, indent=1, default=str) + "\n")
-        with open(self.dir / "log.jsonl", "a") as fh:
-            fh.write(json.dumps({"run_id": run_id, "case_id": case.case_id, "error": str(error)}) + "\n")
+        self._log({"run_id": run_id, "case_id": case.case_id, "error": str(error)})
         return self.meta_path(case)
 
     def table(self, case: Case) -> pd.DataFrame:
