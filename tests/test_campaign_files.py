@@ -19,20 +19,14 @@ from campaign import CAMPAIGN, outcome, refused, run, small_set
 from deckbridge.model import load
 from deckbridge.readers._nodemap import slave_nodes
 
-OTHER_BRANCH = "issue 26: {}, fixed on another branch"
-
-
 # --- output folders -----------------------------------------------------------------------------------------
-@pytest.mark.parametrize("target", ["f.txt/sub", "", pytest.param("f.txt", marks=pytest.mark.xfail(
-    strict=True, reason="issue 26: -o FILE ends in click's 3-line usage error, not one deckbridge line"))])
+@pytest.mark.parametrize("target", ["f.txt/sub", "", "f.txt"])
 def test_output_path_that_cannot_be_a_folder(tmp_path, target):
     (tmp_path / "f.txt").write_text("the user's\n")
     res, before, after = run(["decks", "--dialect", "mystran", "-o", target] + small_set(), tmp_path)
     refused(res, before, after, repr(target) if target else "-o", "output", code=2)
 
 
-@pytest.mark.xfail(strict=True, reason=OTHER_BRANCH.format("a folder the project did not create is refused "
-                                                           "unless --force (output folders)"))
 @pytest.mark.parametrize("names", [("JAR_mystran.bdf",), ("summary.json", "report.html"),
                                    (".env.backup1", ".staging-notes/todo.txt", ".notes.swp123")])
 def test_user_folder_is_not_written_without_force(tmp_path_factory, names):
@@ -186,7 +180,6 @@ def test_interrupt_leaves_no_partial_folder(tmp_path, monkeypatch, stage):
     assert after == before, sorted(set(after) - set(before))
 
 
-@pytest.mark.xfail(strict=True, reason="issue 21.9 / 26: Ctrl-C prints click's 'Aborted!', not the one error line")
 def test_interrupt_is_one_error_line(tmp_path, monkeypatch):
     def interrupted(*a, **kw):
         raise KeyboardInterrupt

@@ -14,7 +14,7 @@ from ._common import main
 
 @main.command("compare")
 @click.argument("sources", nargs=-1, required=True, type=click.Path())
-@click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
+@click.option("-o", "--out", "outdir", required=True, type=click.Path(),
               help="Output folder: report.html, sigma_n.png, discrepancy.csv, summary.json (written whole or not at all).")
 @click.option("--model", "model_path", type=click.Path(dir_okay=False),
               help="Neutral model the results belong to (maps node numbers to azimuth, checks node ids).")

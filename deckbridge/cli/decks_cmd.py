@@ -8,7 +8,7 @@ from ._common import main, model_options
 
 @main.command("decks")
 @model_options
-@click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
+@click.option("-o", "--out", "outdir", required=True, type=click.Path(),
               help="Output folder (created; files appear whole or not at all).")
 @click.option("--dialect", "dialects", multiple=True,
               help=f"Only these dialects ({', '.join(names())}); default all.")

@@ -8,7 +8,7 @@ from ._common import main, model_options
 @main.command("run")
 @model_options
 @click.option("-o", "--out", "outdir", default="jar-report", show_default=True,
-              type=click.Path(file_okay=False), help="Output folder.")
+              type=click.Path(), help="Output folder.")
 @click.option("--with-ccx", is_flag=True, help="Also run CalculiX on its penalty and mortar decks.")
 def run_cmd(model, outdir, with_ccx):
     """Write the decks, solve with penalty and Lagrange, compare and write the report."""

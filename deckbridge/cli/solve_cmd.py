@@ -17,7 +17,7 @@ from ._common import main, model_options
               help="Penalty: multiply the model's normal contact stiffness by F.")
 @click.option("--algorithm", type=click.Choice(["active-set", "gauss-seidel"]), default=None,
               help="Lagrange: exact active set (default) or the paper's projected Gauss-Seidel (slow past liftoff).")
-@click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
+@click.option("-o", "--out", "outdir", required=True, type=click.Path(),
               help="Output folder: contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu "
                    "(ParaView series, one VTU per increment); written whole or not at all.")
 def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):

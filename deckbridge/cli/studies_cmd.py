@@ -20,7 +20,7 @@ DEFAULT_K = "0.01,0.1,1,10,100,1000"
 @model_options
 @click.option("--k-factors", "k_factors", default=DEFAULT_K, show_default=True, metavar="F1,F2,...",
               help="Penalty factors on the model's normal contact stiffness k_c.")
-@click.option("-o", "--out", "outdir", required=True, type=click.Path(file_okay=False),
+@click.option("-o", "--out", "outdir", required=True, type=click.Path(),
               help="Study folder: summary.json, sweep.csv, report.html, run.json and cases/ (resumable).")
 @click.option("--mesh", "mesh_opts", multiple=True, metavar="KEY=V1,V2,...",
               help="Mesh variants, e.g. --mesh n_theta=60,120,240 (repeatable: the product is swept).")
@@ -157,7 +157,7 @@ def _f(v) -> str:
               help="Tolerance on the critical load factor (absolute, in lambda).")
 @click.option("--k-factor", "k_factor", type=float, default=None,
               help="Penalty: factor on the model's normal contact stiffness [default: 1].")
-@click.option("-o", "--out", "outdir", default=None, type=click.Path(file_okay=False),
+@click.option("-o", "--out", "outdir", default=None, type=click.Path(),
               help="Also write DIR/summary.json (per method lambda_c and theta_deg).")
 def liftoff_cmd(model, method, tol, k_factor, outdir):
     """Critical load factor lambda_c (on T and M in step 2) at which liftoff begins, and where."""
