@@ -25,6 +25,7 @@ _SAFE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 TMP_PREFIX = ".deckbridge-tmp-"            # + <name>. + 8 random characters (tempfile)
 STAGING_PREFIX = ".deckbridge-staging-"
 OLD_PREFIX = ".deckbridge-old-"
+TEMPORARY_PREFIXES = (TMP_PREFIX, STAGING_PREFIX, OLD_PREFIX)   # every temporary the project makes
 _STALE = re.compile(r"\.deckbridge-(?:tmp-.+\.|staging-|old-)[a-z0-9_]{8}")
 MARKER = ".deckbridge-output"
 LOCK = ".deckbridge-lock"

@@ -7,10 +7,12 @@ import xml.etree.ElementTree as ET
 
 import meshio
 import numpy as np
+
 import pytest
 
 from deckbridge.mesh import build_mesh, hex_volumes
 from deckbridge.model import load
+from deckbridge.outdir import TEMPORARY_PREFIXES
 from deckbridge.solve import condense_model, solve_system, write_outputs
 
 SMALL = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1"]
@@ -53,7 +55,7 @@ def test_pvd_lists_every_increment_in_order(series):
         step, inc, lf = re.fullmatch(r"step (\d+) increment (\d+) load_factor (\S+)", label).groups()
         assert (int(step), int(inc)) == (s, j) and float(lf) == pytest.approx(lam, abs=1e-12)
         assert t == pytest.approx(0.0 if s == 1 else 1 + lam / model.steps.lambda_max)
-    assert not list(out.glob(".staging-*"))
+    assert not [q for q in out.iterdir() if q.name.startswith(TEMPORARY_PREFIXES)]   # no temporary left
 
 
 def test_each_vtu_has_status_gap_stress_ids_and_sets(series):

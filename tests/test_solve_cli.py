@@ -4,6 +4,7 @@ import json
 
 import meshio
 import numpy as np
+
 import pandas as pd
 import pytest
 from click.testing import CliRunner
@@ -11,6 +12,7 @@ from click.testing import CliRunner
 from deckbridge.cli import main
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
+from deckbridge.outdir import TEMPORARY_PREFIXES
 from deckbridge.results import COLUMNS, conform
 
 SMALL = ["--set", "mesh.n_theta=24", "--set", "mesh.n_z=6", "--set", "mesh.n_r=1",
@@ -66,7 +68,7 @@ def test_solve_writes_table_summary_and_vtu(tmp_path, method):
         assert np.abs(uz).max() <= 1e-12 * np.abs(u1).max()
     else:
         np.testing.assert_allclose(uz, -p * mesh.table.area / mesh.table.k, rtol=1e-8)
-    assert not list(out.glob(".staging-*"))
+    assert not [q for q in out.iterdir() if q.name.startswith(TEMPORARY_PREFIXES)]   # no temporary left
 
 
 def test_liftoff_follows_the_load_azimuth(tmp_path):
