@@ -25,6 +25,12 @@ The generalised Jacobian is ``D_lam S + D_x`` with per-node blocks; the dofs who
 solves a dense system on the open and slipping dofs only. The iterates start from the path's
 estimate of the increment (warm start), else from the previous increment. At the solution
 g = 0 or p = 0 exactly, and s = s_ref (stick) or |t| = mu p opposing the slip (slip).
+
+Convergence: every |C_i| <= tol max(|f|, |lam|) [N], or within ROUNDOFF times its own evaluation error
+eps (|S| |x| + |f|)_i [N] (lam = S x - f cancels). Near tipping the remaining support is almost a
+mechanism: x reaches 0.4 m on 36 x 8 x 2 at lambda = 1.153 while S reaches 6e11 N/m, so that error is
+~8e-11 |f|, above tol |f| = 1e-11 |f|; the iterates then sit at the floor (same contact set, C from
+2e-11 to 9e-11 |f|, by the BLAS's summation order) and were taken as not converged.
 """
 
 from __future__ import annotations
@@ -41,6 +47,7 @@ PLAIN_MAXIT = 12         # Newton steps of the plain iteration from the previous
 DIRECT_RHO = (1.0, 0.1)  # the direct attempts' rho, times diag(S)
 RHO_N = 1.0
 RHO_T = 1.0
+ROUNDOFF = 16.0         # a residual within ROUNDOFF x its evaluation error eps (|S| |x| + |f|) is converged [-]
 WRONG_WAY_STICK = True   # iterates: a closed row slipping along its own force is taken as sticking
                          # (False: the plain iteration alone, as before issue 14's speed work)
 
@@ -124,6 +131,7 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     nf = fr.size
     fi = np.repeat(np.arange(nf), 2).reshape(nf, 2)           # friction row of each tangential axis
     scale = max(np.abs(f).max(), 1e-300)
+    absS, absf = np.abs(S), np.abs(f)
     args = (sysf, f, rho_n, rho_t, mu, s_ref, qfix, wrong_way_stick)
     x = np.array(prev.x if x0 is None else x0, float)
     ev = _equations(x, *args)
@@ -132,7 +140,8 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
         C, lam, act, stick, slip, nv, nxi, q, t, m = ev
         tflat, fflat = td[m], fi[m]
         cmax = np.abs(C).max()
-        if cmax <= tol * max(scale, np.abs(lam).max()):
+        floor = ROUNDOFF * np.finfo(float).eps * (absS @ np.abs(x) + absf)   # per dof [N]
+        if np.all(np.abs(C) <= np.maximum(tol * max(scale, np.abs(lam).max()), floor)):
             moving = np.linalg.norm((x[td] - s_ref) * m, axis=1) > 1e-12 * (np.abs(x).max() + 1e-300)
             on_cone = act[fr] & (np.linalg.norm(t, axis=1) >= (1 - 1e-8) * q)
             slipping = on_cone & (moving | prev.slip)        # a zero increment keeps the slip status
