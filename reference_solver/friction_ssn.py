@@ -87,7 +87,9 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     away), the plain iteration of the earlier solver: from the previous increment (``PLAIN_MAXIT``
     steps, its active sets can cycle), then from a penalty predictor (the energy-descent penalty solve
     ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
-    when that fails too (the caller has the augmented-Lagrangian solve as the last resort).
+    when that fails too (the caller has the augmented-Lagrangian solve as the last resort), Runaway
+    where the predictor or the Newton from it has no bounded equilibrium (not gross slip: the path
+    bisects to that load, the tipping load).
     """
     starts = ([(guess, 1.0)] if guess is not None else []) + [(None, r) for r in DIRECT_RHO]
     for x0, rho in starts if WRONG_WAY_STICK else []:
@@ -105,7 +107,10 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     kt = PREDICTOR * d[sysf.tdofs].mean(axis=1)
     if predictor is None:
         raise NotConverged("Lagrange friction: the semi-smooth Newton did not settle (no predictor given)")
-    pred = predictor(k, kt)
+    try:
+        pred = predictor(k, kt)
+    except Unbounded as exc:                           # no bounded penalty equilibrium either: not gross slip
+        raise Runaway(f"Lagrange friction: the penalty predictor ran away ({exc})") from None
     try:
         st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x, wrong_way_stick=False)
     except (GrossSlip, Unbounded) as exc:
@@ -139,7 +144,6 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     for it in range(1, maxit + 1):
         C, lam, act, stick, slip, nv, nxi, q, t, m = ev
         tflat, fflat = td[m], fi[m]
-        cmax = np.abs(C).max()
         floor = ROUNDOFF * np.finfo(float).eps * (absS @ np.abs(x) + absf)   # per dof [N]
         if np.all(np.abs(C) <= np.maximum(tol * max(scale, np.abs(lam).max()), floor)):
             moving = np.linalg.norm((x[td] - s_ref) * m, axis=1) > 1e-12 * (np.abs(x).max() + 1e-300)
