@@ -88,8 +88,9 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     steps, its active sets can cycle), then from a penalty predictor (the energy-descent penalty solve
     ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
     when that fails too (the caller has the augmented-Lagrangian solve as the last resort), Runaway
-    where the predictor or the Newton from it has no bounded equilibrium (not gross slip: the path
-    bisects to that load, the tipping load).
+    where the predictor has no bounded equilibrium or the Newton from it runs away (every closed row
+    slipping included: the predictor decided that it is not gross slip); the path bisects to that
+    load, the tipping load.
     """
     starts = ([(guess, 1.0)] if guess is not None else []) + [(None, r) for r in DIRECT_RHO]
     for x0, rho in starts if WRONG_WAY_STICK else []:
@@ -113,9 +114,8 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
         raise Runaway(f"Lagrange friction: the penalty predictor ran away ({exc})") from None
     try:
         st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x, wrong_way_stick=False)
-    except (GrossSlip, Unbounded) as exc:
-        kind = Runaway if isinstance(exc, Unbounded) else NotConverged   # not gross slip: no bounded equilibrium
-        raise kind(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})") from None
+    except (GrossSlip, Unbounded) as exc:   # the predictor (it decides gross slip) found one: a runaway
+        raise Runaway(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})") from None
     st.iterations += pred.iterations
     return st
 
