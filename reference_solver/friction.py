@@ -48,6 +48,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .condense import CondensedSystem, check_mechanism, condense
+from .contact import Unbounded
 from .errors import ReferenceSolverError
 from .friction_newton import newton
 from .friction_ssn import solve_lagrange_increment
@@ -236,7 +237,7 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
         r = np.minimum(r * rho_growth, rho)
         try:
             st = newton(sysf, f, r, zero, r[fr], cap, p0, t0, s_ref, x, max_disp, k_along=r[fr] / AL_SAFE)
-        except NotConverged as exc:
+        except (NotConverged, Unbounded) as exc:
             if runaway:                                # both ran away, not all slipping (the path decides)
                 raise Runaway(str(exc)) from None
             raise

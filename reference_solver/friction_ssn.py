@@ -25,6 +25,12 @@ The generalised Jacobian is ``D_lam S + D_x`` with per-node blocks; the dofs who
 solves a dense system on the open and slipping dofs only. The iterates start from the path's
 estimate of the increment (warm start), else from the previous increment. At the solution
 g = 0 or p = 0 exactly, and s = s_ref (stick) or |t| = mu p opposing the slip (slip).
+
+Convergence: every |C_i| <= tol max(|f|, |lam|) [N], or within ROUNDOFF times its own evaluation error
+eps (|S| |x| + |f|)_i [N] (lam = S x - f cancels). Near tipping the remaining support is almost a
+mechanism: x reaches 0.4 m on 36 x 8 x 2 at lambda = 1.153 while S reaches 6e11 N/m, so that error is
+~8e-11 |f|, above tol |f| = 1e-11 |f|; the iterates then sit at the floor (same contact set, C from
+2e-11 to 9e-11 |f|, by the BLAS's summation order) and were taken as not converged.
 """
 
 from __future__ import annotations
@@ -41,6 +47,7 @@ PLAIN_MAXIT = 12         # Newton steps of the plain iteration from the previous
 DIRECT_RHO = (1.0, 0.1)  # the direct attempts' rho, times diag(S)
 RHO_N = 1.0
 RHO_T = 1.0
+ROUNDOFF = 16.0         # a residual within ROUNDOFF x its evaluation error eps (|S| |x| + |f|) is converged [-]
 WRONG_WAY_STICK = True   # iterates: a closed row slipping along its own force is taken as sticking
                          # (False: the plain iteration alone, as before issue 14's speed work)
 
@@ -80,7 +87,10 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     away), the plain iteration of the earlier solver: from the previous increment (``PLAIN_MAXIT``
     steps, its active sets can cycle), then from a penalty predictor (the energy-descent penalty solve
     ``predictor(k, k_t)`` with k = PREDICTOR * diag S, which also decides gross slip); NotConverged
-    when that fails too (the caller has the augmented-Lagrangian solve as the last resort).
+    when that fails too (the caller has the augmented-Lagrangian solve as the last resort), Runaway
+    where the predictor has no bounded equilibrium or the Newton from it runs away (every closed row
+    slipping included: the predictor decided that it is not gross slip); the path bisects to that
+    load, the tipping load.
     """
     starts = ([(guess, 1.0)] if guess is not None else []) + [(None, r) for r in DIRECT_RHO]
     for x0, rho in starts if WRONG_WAY_STICK else []:
@@ -98,12 +108,14 @@ def solve_lagrange_increment(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, p
     kt = PREDICTOR * d[sysf.tdofs].mean(axis=1)
     if predictor is None:
         raise NotConverged("Lagrange friction: the semi-smooth Newton did not settle (no predictor given)")
-    pred = predictor(k, kt)
+    try:
+        pred = predictor(k, kt)
+    except Unbounded as exc:                           # no bounded penalty equilibrium either: not gross slip
+        raise Runaway(f"Lagrange friction: the penalty predictor ran away ({exc})") from None
     try:
         st = _ssn(sysf, f, prev, mu, max_disp, tol, maxit, x0=pred.x, wrong_way_stick=False)
-    except (GrossSlip, Unbounded) as exc:
-        kind = Runaway if isinstance(exc, Unbounded) else NotConverged   # not gross slip: no bounded equilibrium
-        raise kind(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})") from None
+    except (GrossSlip, Unbounded) as exc:   # the predictor (it decides gross slip) found one: a runaway
+        raise Runaway(f"Lagrange friction: the semi-smooth Newton left the penalty predictor ({exc})") from None
     st.iterations += pred.iterations
     return st
 
@@ -124,6 +136,7 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     nf = fr.size
     fi = np.repeat(np.arange(nf), 2).reshape(nf, 2)           # friction row of each tangential axis
     scale = max(np.abs(f).max(), 1e-300)
+    absS, absf = np.abs(S), np.abs(f)
     args = (sysf, f, rho_n, rho_t, mu, s_ref, qfix, wrong_way_stick)
     x = np.array(prev.x if x0 is None else x0, float)
     ev = _equations(x, *args)
@@ -131,8 +144,8 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     for it in range(1, maxit + 1):
         C, lam, act, stick, slip, nv, nxi, q, t, m = ev
         tflat, fflat = td[m], fi[m]
-        cmax = np.abs(C).max()
-        if cmax <= tol * max(scale, np.abs(lam).max()):
+        floor = ROUNDOFF * np.finfo(float).eps * (absS @ np.abs(x) + absf)   # per dof [N]
+        if np.all(np.abs(C) <= np.maximum(tol * max(scale, np.abs(lam).max()), floor)):
             moving = np.linalg.norm((x[td] - s_ref) * m, axis=1) > 1e-12 * (np.abs(x).max() + 1e-300)
             on_cone = act[fr] & (np.linalg.norm(t, axis=1) >= (1 - 1e-8) * q)
             slipping = on_cone & (moving | prev.slip)        # a zero increment keeps the slip status
