@@ -37,7 +37,11 @@ Echo = Callable[[str], None]
 
 def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo = print,
             ccx_timeout_s: float = 1800.0) -> dict:
-    """Run the main job on ``model`` into ``outdir``; return {'report': path, 'summary': dict, ...}."""
+    """Run the main job on ``model`` into ``outdir``; return {'report': path, 'summary': dict, ...}.
+    ``with_ccx`` on a model the CalculiX decks cannot carry is refused (DeckUnsupported) before any work."""
+    if with_ccx:
+        from .render.calculix import check_supported
+        check_supported(model)
     out = prepare(outdir)
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
