@@ -20,7 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from scenario_checks import CHECKS  # noqa: E402
 from scenarios import Case, covering_array, run_case  # noqa: E402
 
-SHORT = {"ran": "ran", "decks_command": "decks", "decks_read_back": "read", "ccx_finished": "ccx",
+SHORT = {"ran": "ran", "decks_command": "decks", "decks_read_back": "read", "ccx_finished": "ccx", "analysis_as_asked": "anal",
          "equilibrium": "equil", "no_free_penetration": "penet", "ccx_vs_reference": "vsref",
          "si_equals_mm": "SI=mm", "warnings_true": "warn"}
 
@@ -41,7 +41,8 @@ def main() -> None:
     failures = []
     print(f"{len(cases)} cases (pairwise, seed {args.seed}), mesh {args.n_theta} x {args.n_z} x n_r, "
           f"{args.increments} increments")
-    print(" # | " + " | ".join(SHORT.values()) + " |     s | case")
+    heads = [SHORT.get(name, name) for name in CHECKS]
+    print(" # | " + " | ".join(heads) + " |     s | case")
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(args.keep or tmp)
         for i, case in enumerate(cases):
@@ -57,7 +58,7 @@ def main() -> None:
                 except Exception as exc:          # noqa: BLE001 - a table of results, not a test
                     cells.append("FAIL")
                     failures.append((i, name, f"{type(exc).__name__}: {exc}".splitlines()[0][:300]))
-            print(f"{i:2d} | " + " | ".join(c.ljust(len(h)) for c, h in zip(cells, SHORT.values()))
+            print(f"{i:2d} | " + " | ".join(c.ljust(len(h)) for c, h in zip(cells, heads))
                   + f" | {time.perf_counter() - t:5.1f} | {case.name}", flush=True)
     for i, name, msg in failures:
         print(f"case {i} {name}: {msg}")

@@ -85,6 +85,18 @@ def _factors(df) -> set:
     return set(np.round(df["load_factor"].to_numpy(float), 9).tolist())
 
 
+def analysis_as_asked(run: Run) -> str:
+    """Every ccx deck runs the model's analysis: NLGEOM in its *STEP lines exactly when analysis.nlgeom
+    (report.caveats.deck_options reads the deck as the report does)."""
+    from deckbridge.report.caveats import deck_options
+    ran(run)
+    decks = sorted((run.out / "ccx").glob("*.inp"))
+    for deck in decks:
+        got = deck_options(deck)["nlgeom"]
+        assert got == run.model.analysis.nlgeom, f"{deck.name}: NLGEOM {got}, analysis.nlgeom {run.model.analysis.nlgeom}"
+    return f"{len(decks)} decks"
+
+
 def _applied(run: Run, lam: float) -> tuple[np.ndarray, np.ndarray]:
     """Applied force and moment about the base centre (0, 0, 0) at load factor ``lam``."""
     lv = run.model.load_vectors()
@@ -259,7 +271,7 @@ def warnings_true(run: Run) -> str:
     return f"{count} warnings"
 
 
-CHECKS = {f.__name__: f for f in (ran, decks_command, decks_read_back, ccx_finished, equilibrium, no_free_penetration,
+CHECKS = {f.__name__: f for f in (ran, decks_command, decks_read_back, ccx_finished, analysis_as_asked, equilibrium, no_free_penetration,
                                    ccx_vs_reference, si_equals_mm, warnings_true)}
 
 

@@ -27,6 +27,7 @@ KNOWN = [
     (lambda v: v["pads"] == "pads" and v["stop"] != "none", None, FIXED_ELSEWHERE.format(2)),   # KeyError
     (lambda v: v["pads"] == "pads", ALL_BUT_DECKS, NEW_PADS_EBASE),
     (lambda v: v["tangential"] == "friction", ("decks_command",), FIXED_ELSEWHERE.format(16)),  # MYSTRAN refuses
+    (lambda v: v["stop"] != "none" and not v["nlgeom"], ("analysis_as_asked",), FIXED_ELSEWHERE.format(4)),
 ]
 
 
