@@ -22,7 +22,7 @@ from scenarios import Case, covering_array, run_case  # noqa: E402
 
 SHORT = {"ran": "ran", "decks_command": "decks", "decks_read_back": "read", "ccx_finished": "ccx", "analysis_as_asked": "anal",
          "equilibrium": "equil", "no_free_penetration": "penet", "ccx_vs_reference": "vsref",
-         "si_equals_mm": "SI=mm", "warnings_true": "warn"}
+         "si_equals_mm": "SI=mm", "paraview_si_equals_mm": "pv", "warnings_true": "warn"}
 
 
 def main() -> None:

@@ -202,15 +202,51 @@ def ccx_vs_reference(run: Run) -> str:
     return "; ".join(out)
 
 
+def _si_twin(run: Run):
+    """(SI model, its ccx penalty job) of a mm case, run once (tests/ccx_job.py)."""
+    from ccx_job import ccx_penalty_job
+    si = run.model.with_overrides({"units": "SI"})
+    if run.si_twin is None:
+        run.si_twin = ccx_penalty_job(si, Path(tempfile.mkdtemp(prefix="si-", dir=run.out.parent)))
+    return si, run.si_twin
+
+
+def paraview_si_equals_mm(run: Run) -> str:
+    """The ccx ParaView series (deckbridge.paraview_ccx) of the mm case's penalty job equals that of its SI
+    twin: every point and cell array of every VTU, and the points, to 1e-6 of the array's largest value."""
+    import meshio
+
+    from deckbridge.paraview_ccx import write_ccx_series
+    ran(run)
+    if run.model.units != "mm":
+        return "skipped: SI case"
+    si, deck = _si_twin(run)
+    mm_job = run.out / "ccx" / deck.name
+    a = write_ccx_series(deck, si, Path(tempfile.mkdtemp(prefix="pv-si-", dir=run.out.parent)))[1:]
+    b = write_ccx_series(mm_job, run.model, Path(tempfile.mkdtemp(prefix="pv-mm-", dir=run.out.parent)))[1:]
+    assert len(a) == len(b) > 0, f"{len(a)} SI and {len(b)} mm VTU files"
+    n = 0
+    for fa, fb in zip(a, b):
+        ma, mb = meshio.read(fa), meshio.read(fb)
+        arrays = [("points", ma.points, mb.points)]
+        arrays += [(k, v, mb.point_data.get(k)) for k, v in ma.point_data.items()]
+        arrays += [(k, v[0], mb.cell_data[k][0] if k in mb.cell_data else None) for k, v in ma.cell_data.items()]
+        for key, va, vb in arrays:
+            assert vb is not None, f"{fb.name}: no {key}"
+            va, vb = np.asarray(va, float), np.asarray(vb, float)
+            d = np.abs(va - vb).max(initial=0.0) / max(np.abs(va).max(initial=0.0), 1e-300)
+            assert d <= TOL_UNITS, f"{fb.name} {key}: SI vs mm differ by {d:.3g} of the largest"
+            n += 1
+    return f"{n} arrays equal"
+
+
 def si_equals_mm(run: Run) -> str:
     """Every quantity equal between the SI and the mm run: the mm case's CalculiX penalty deck against the
     same model's SI deck, both run by ccx (contact table, node coordinates of the decks)."""
     ran(run)
     if run.model.units != "mm":
         return "skipped: SI case"
-    from ccx_job import ccx_penalty_job
-    si = run.model.with_overrides({"units": "SI"})
-    deck = ccx_penalty_job(si, Path(tempfile.mkdtemp(prefix="si-", dir=run.out.parent)))
+    si, deck = _si_twin(run)
     a = read(deck.with_suffix(".frd"), model=si)
     b = run.tables["ccx/penalty"]
     j = a.merge(b, on=["step", "increment", "node", "surface"], suffixes=("_si", "_mm"))
@@ -271,8 +307,9 @@ def warnings_true(run: Run) -> str:
     return f"{count} warnings"
 
 
-CHECKS = {f.__name__: f for f in (ran, decks_command, decks_read_back, ccx_finished, analysis_as_asked, equilibrium, no_free_penetration,
-                                   ccx_vs_reference, si_equals_mm, warnings_true)}
+CHECKS = {f.__name__: f for f in (ran, decks_command, decks_read_back, ccx_finished, analysis_as_asked, equilibrium,
+                                   no_free_penetration, ccx_vs_reference, si_equals_mm, paraview_si_equals_mm,
+                                   warnings_true)}
 
 
 def refused_before_work(overrides: list[str], dialect: str, key: str, folder: Path) -> str:

@@ -167,6 +167,7 @@ class Run:
     summaries: dict
     error: str | None = None
     overrides: tuple = ()
+    si_twin: Path | None = None      # the SI twin's ccx penalty job of a mm case (scenario_checks, made once)
 
 
 def run_case(case: Case, folder: Path) -> Run:

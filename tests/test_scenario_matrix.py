@@ -28,6 +28,7 @@ KNOWN = [
     (lambda v: v["pads"] == "pads", ALL_BUT_DECKS, NEW_PADS_EBASE),
     (lambda v: v["tangential"] == "friction", ("decks_command",), FIXED_ELSEWHERE.format(16)),  # MYSTRAN refuses
     (lambda v: v["stop"] != "none" and not v["nlgeom"], ("analysis_as_asked",), FIXED_ELSEWHERE.format(4)),
+    (lambda v: v["units"] == "mm", ("paraview_si_equals_mm",), FIXED_ELSEWHERE.format(5)),   # displacement in mm
 ]
 
 
