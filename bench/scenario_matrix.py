@@ -21,7 +21,7 @@ from scenario_checks import CHECKS  # noqa: E402
 from scenarios import Case, covering_array, run_case  # noqa: E402
 
 SHORT = {"ran": "ran", "decks_command": "decks", "decks_read_back": "read", "ccx_finished": "ccx", "analysis_as_asked": "anal",
-         "equilibrium": "equil", "no_free_penetration": "penet", "ccx_vs_reference": "vsref",
+         "equilibrium": "equil", "no_free_penetration": "penet", "stop_frictionless": "stopmu", "ccx_vs_reference": "vsref",
          "si_equals_mm": "SI=mm", "paraview_si_equals_mm": "pv", "warnings_true": "warn"}
 
 

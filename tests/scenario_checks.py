@@ -85,6 +85,55 @@ def _factors(df) -> set:
     return set(np.round(df["load_factor"].to_numpy(float), 9).tolist())
 
 
+def _interactions(text: str) -> dict[str, list[str]]:
+    """{interaction name: its option lines} of an inp deck: the lines from ``*SURFACE INTERACTION, NAME=X``
+    to the next keyword that is not one of its options."""
+    out, name = {}, None
+    for line in text.splitlines():
+        up = line.strip().upper()
+        if not up or up.startswith("**"):
+            continue
+        m = re.match(r"\*SURFACE INTERACTION\s*,\s*NAME\s*=\s*(\S+)", up)
+        if m:
+            name = m.group(1)
+            out[name] = []
+        elif up.startswith("*") and not up.startswith(("*SURFACE BEHAVIOR", "*FRICTION")):
+            name = None
+        elif name is not None:
+            out[name].append(up)
+    return out
+
+
+def stop_frictionless(run: Run) -> str:
+    """The radial stop is frictionless in every deck as in the reference solver (docs/friction.md): no
+    friction or tangential stiffness on the stop's PGAPs (pyNastran), no *FRICTION with mu > 0 in a STOP
+    interaction of an inp deck."""
+    from pyNastran.bdf.bdf import BDF
+
+    from deckbridge.mesh import build_mesh
+    from deckbridge.numbering.nastran import gap_layout
+    ran(run)
+    if run.model.contact.stop.side == "none" or run.model.contact.friction <= 0:
+        return "skipped: no stop or no friction"
+    gaps = gap_layout(build_mesh(run.model))
+    stop_ids = gaps.eid[gaps.surface == "stop"]
+    bdf = BDF(debug=None)
+    bdf.read_bdf(str(run.out / "decks" / f"{run.model.name}_penalty.bdf"), xref=False)
+    for pid in stop_ids:
+        p = bdf.properties[int(pid)]
+        assert not (p.mu1 or p.mu2 or p.kt), f"stop PGAP {pid}: MU1 {p.mu1}, MU2 {p.mu2}, KT {p.kt}"
+    n = 0
+    for deck in sorted((run.out / "decks").glob("*.inp")):
+        for name, lines in _interactions(deck.read_text()).items():
+            if "STOP" not in name:
+                continue
+            n += 1
+            fr = [lines[i + 1] for i, ln in enumerate(lines[:-1]) if ln.startswith("*FRICTION")]
+            mu = [float(f.split(",")[0]) for f in fr]
+            assert not any(mu), f"{deck.name} {name}: *FRICTION mu {mu}"
+    return f"{stop_ids.size} stop PGAPs, {n} stop interactions"
+
+
 def analysis_as_asked(run: Run) -> str:
     """Every ccx deck runs the model's analysis: NLGEOM in its *STEP lines exactly when analysis.nlgeom
     (report.caveats.deck_options reads the deck as the report does)."""
@@ -308,7 +357,7 @@ def warnings_true(run: Run) -> str:
 
 
 CHECKS = {f.__name__: f for f in (ran, decks_command, decks_read_back, ccx_finished, analysis_as_asked, equilibrium,
-                                   no_free_penetration, ccx_vs_reference, si_equals_mm, paraview_si_equals_mm,
+                                   no_free_penetration, stop_frictionless, ccx_vs_reference, si_equals_mm, paraview_si_equals_mm,
                                    warnings_true)}
 
 

@@ -29,6 +29,8 @@ KNOWN = [
     (lambda v: v["tangential"] == "friction", ("decks_command",), FIXED_ELSEWHERE.format(16)),  # MYSTRAN refuses
     (lambda v: v["stop"] != "none" and not v["nlgeom"], ("analysis_as_asked",), FIXED_ELSEWHERE.format(4)),
     (lambda v: v["units"] == "mm", ("paraview_si_equals_mm",), FIXED_ELSEWHERE.format(5)),   # displacement in mm
+    (lambda v: v["tangential"] == "friction" and v["stop"] != "none", ("stop_frictionless",),
+     FIXED_ELSEWHERE.format(6)),                                                          # stop PGAP MU1, *FRICTION
 ]
 
 
