@@ -5,7 +5,10 @@ asserted as one-line refusals before any work.
 
 A (case, invariant) that fails on main because of an item of issue 21 another branch fixes is marked
 ``xfail(strict=True)`` by :data:`KNOWN` (a rule on the case's levels, not a list of cases), so that it
-XPASS-fails once the fix lands and the mark is removed. The larger matrix: bench/scenario_matrix.py.
+XPASS-fails once the fix lands and the mark is removed. The first matching rule names the test's reason; a
+test broken by two items stays XFAIL until both land: ``bench/scenario_matrix.py --n-theta 16 --n-z 4
+--increments 5 --seed 21`` prints this matrix's every (case, invariant) without marks. The larger matrix:
+bench/scenario_matrix.py with its defaults.
 """
 
 import shutil
