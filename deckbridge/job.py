@@ -43,7 +43,11 @@ LAYOUT = ("decks", "reference_penalty", "reference_lagrange", "ccx", "report.htm
 
 def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo = print,
             ccx_timeout_s: float = 1800.0) -> dict:
-    """Run the main job on ``model`` into ``outdir``, all or nothing; return {'report': path, ...}."""
+    """Run the main job on ``model`` into ``outdir``, all or nothing; return {'report': path, ...}.
+    ``with_ccx`` on a model the CalculiX decks cannot carry is refused (DeckUnsupported) before any work."""
+    if with_ccx:
+        from .render.calculix import check_supported
+        check_supported(model)
     with replacing(outdir, "run", LAYOUT) as out:
         return _job(model, out, with_ccx, echo, ccx_timeout_s)
 

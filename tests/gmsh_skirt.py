@@ -148,6 +148,71 @@ def gmsh_written(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=24, n_z=6, n_r=1, s
     return out
 
 
+def gmsh_files(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=16, n_z=4, n_r=1, top_radius=None,
+               unit="m") -> dict:
+    """The skirt as *Gmsh itself writes it*: ``skirt.msh`` (4.1), ``skirt.inp`` and ``skirt.bdf`` from
+    ``gmsh.write`` (skin elements of the physical surfaces BASE and TOP included, Gmsh's numbering, node sets
+    ``*NSET`` BASE / TOP in the .inp), plus ``base.txt`` / ``top.txt`` (the sets' node ids, one a line, for the
+    .bdf, which carries no sets). Geometry [m] as :func:`gmsh_skirt`, ``top_radius`` the mid-wall radius at
+    the top (a cone: the revolved section is a parallelogram), coordinates written in ``unit`` ('m' or
+    'mm'). Returns {'msh', 'inp', 'bdf': path, 'sets': {fmt: the model's mesh.sets value}}."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    args = json.dumps({"files": True, "outdir": str(outdir), "R": R, "t": t, "H": H, "n_theta": n_theta,
+                       "n_z": n_z, "n_r": n_r, "top_radius": top_radius, "unit": unit})
+    subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
+    sets = {"msh": "{base: BASE, top: TOP}", "inp": "{base: BASE, top: TOP}",
+            "bdf": "{base: base.txt, top: top.txt}"}
+    return {**{f: outdir / f"skirt.{f}" for f in ("msh", "inp", "bdf")}, "sets": sets}
+
+
+def _files_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, top_radius, unit) -> None:
+    """The Gmsh part of :func:`gmsh_files` (child process)."""
+    import gmsh
+    s = {"m": 1.0, "mm": 1000.0}[unit]
+    rt = R if top_radius is None else top_radius
+    gmsh.initialize(["-noenv"])
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("skirt")
+        geo = gmsh.model.geo
+        p = [geo.addPoint(s * (R - t / 2), 0, 0), geo.addPoint(s * (R + t / 2), 0, 0),
+             geo.addPoint(s * (rt + t / 2), 0, s * H), geo.addPoint(s * (rt - t / 2), 0, s * H)]
+        lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
+        surf = geo.addPlaneSurface([geo.addCurveLoop(lines)])
+        for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
+            geo.mesh.setTransfiniteCurve(ln, n + 1)
+        geo.mesh.setTransfiniteSurface(surf)
+        geo.mesh.setRecombine(2, surf)
+        vols, bottoms, tops, cur = [], [], [], (2, surf)
+        for _ in range(4):   # four quarters (one revolution of 360 deg is not allowed)
+            out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
+            vols.append(out[1][1])
+            bottoms.append(out[2][1])
+            tops.append(out[4][1])
+            cur = out[0]
+        geo.synchronize()
+        gmsh.model.geo.removeAllDuplicates()
+        geo.synchronize()
+        gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
+        groups = {name: gmsh.model.addPhysicalGroup(2, faces, name=name)
+                  for name, faces in (("BASE", bottoms), ("TOP", tops))}
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.removeDuplicateNodes()
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.option.setNumber("Mesh.SaveGroupsOfNodes", 1)
+        for fmt in ("msh", "inp", "bdf"):
+            gmsh.write(str(outdir / f"skirt.{fmt}"))
+        for name, tag in groups.items():
+            ids = gmsh.model.mesh.getNodesForPhysicalGroup(2, tag)[0]
+            (outdir / f"{name.lower()}.txt").write_text("\n".join(str(int(i)) for i in ids) + "\n")
+    finally:
+        gmsh.finalize()
+
+
 if __name__ == "__main__":
     kw = json.loads(sys.argv[1])
-    _mesh_in_this_process(Path(kw.pop("outdir")), **kw)
+    if kw.pop("files", False):
+        _files_in_this_process(Path(kw.pop("outdir")), **kw)
+    else:
+        _mesh_in_this_process(Path(kw.pop("outdir")), **kw)
