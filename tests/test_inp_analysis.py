@@ -32,16 +32,19 @@ def _step_lines(text):
     return [ln for ln in text.splitlines() if ln.startswith("*STEP")]
 
 
-def test_nlgeom_false_every_deck_is_geometrically_linear_but_the_mortar_deck_with_a_stop(tmp_path):
+def test_nlgeom_false_every_deck_is_geometrically_linear_stop_included(tmp_path):
+    """Issue 21.4: the mortar deck's GAPUNI stop no longer switches that deck to NLGEOM."""
     model, decks = _decks(tmp_path / "stop")
     assert all("NLGEOM=NO" in ln for ln in _step_lines(decks["JAR_lagrange.inp"]))
     assert not any("NLGEOM" in ln for ln in _step_lines(decks["JAR_ccx_penalty.inp"]))
-    assert "TYPE=GAPUNI" not in decks["JAR_ccx_penalty.inp"]                 # GAPUNI needs NLGEOM
+    assert "TYPE=GAPUNI" not in decks["JAR_ccx_penalty.inp"]                 # node-to-surface LINEAR
     mortar = decks["JAR_ccx_lagrange.inp"]
-    assert all("NLGEOM" in ln for ln in _step_lines(mortar))                 # its stop is GAPUNI gaps
-    assert "NLGEOM although analysis.nlgeom is false:\n** its radial stop is GAPUNI gaps" in mortar
-    forced = DIALECTS["calculix"].nlgeom_forced(model)
-    assert list(forced) == ["JAR_ccx_lagrange.inp"] and "GAPUNI" in forced["JAR_ccx_lagrange.inp"]
+    assert "TYPE=GAPUNI" in mortar                                         # its stop is GAPUNI gaps
+    steps = _step_lines(mortar)
+    assert len(steps) == 2 and not any("NLGEOM" in ln for ln in steps)
+    assert "** Geometry: geometrically linear (no NLGEOM), as analysis.nlgeom = false asks." in mortar
+    assert "NLGEOM although" not in mortar
+    assert DIALECTS["calculix"].nlgeom_forced(model) == {}
     assert DIALECTS["abaqus"].nlgeom_forced(model) == {}
     _, free = _decks(tmp_path / "free", ["contact.stop.side=none"])
     assert not any("NLGEOM" in ln for name in ("JAR_ccx_penalty.inp", "JAR_ccx_lagrange.inp")

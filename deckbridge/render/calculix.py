@@ -16,9 +16,11 @@ Lagrange-type: ``*CONTACT PAIR, TYPE=MORTAR`` (dual shape functions) between the
 faces (slave) and the top faces of a fixed C3D8 ring (master). With MORTAR_HARD (default) the interaction
 has no ``*SURFACE BEHAVIOR``: ccx 2.20 then enforces hard contact with Lagrange multipliers. Otherwise it
 writes ``PRESSURE-OVERCLOSURE=LINEAR`` with the slope K_m = MORTAR_FACTOR * E / h1. The radial stop is GAPUNI
-gaps with the slope K_m, k = K_m * A per node (a node on two mortar slave surfaces loses its output; mortar
-and node-to-surface cannot be mixed in one deck): so a mortar deck with a stop runs NLGEOM whatever
-analysis.nlgeom says (:func:`forces_nlgeom`; the header says it).
+gaps with the slope K_m, k = K_m * A per node (a node on two mortar slave surfaces loses its output; a
+node-to-surface stop pair beside the mortar pair needs a *SURFACE BEHAVIOR on the table and stalls when stiff).
+The deck follows analysis.nlgeom like every other deck: without NLGEOM these near-rigid gaps give the
+reference Lagrange path (24 x 6 x 1, inner stop: table sigma_N within 0.063 % of the peak to lambda 0.8,
+0.23 % at 1; stop force within 0.1 % to 0.9), where the earlier NLGEOM deck was 10.8 % off at 0.8.
 
 Both decks: C3D8I skirt, circumferential SPRING1 restraint of every table slave node, ``*COUPLING`` +
 ``*DISTRIBUTING`` (dofs 1-6) or ``*KINEMATIC`` (dofs 1-3) from the top-centre reference node; step 1 applies
@@ -53,12 +55,12 @@ MAX_ITER = 60                # *CONTROLS TIME INCREMENTATION I_C (I_0 = 20, I_R 
 
 
 def forces_nlgeom(model: Model, method: str) -> str | None:
-    """Why the CalculiX ``method`` deck of ``model`` runs NLGEOM although analysis.nlgeom is false, or None."""
-    if model.analysis.nlgeom:
-        return None
-    if method == "mortar" and model.contact.stop.side != "none":
-        return ("its radial stop is GAPUNI gaps, which need NLGEOM in ccx 2.20 (mortar and node-to-surface "
-                "contact cannot be mixed in one deck)")
+    """Why the CalculiX ``method`` deck of ``model`` runs NLGEOM although analysis.nlgeom is false, or None.
+
+    None for both decks: the penalty deck is node-to-surface without NLGEOM, and the mortar deck's GAPUNI stop
+    gaps run geometrically linear (measured against the reference Lagrange path: tests/test_reference_vs_ccx.py).
+    Kept as the dialect record's hook (:func:`nlgeom_forced`) should a deck ever have to switch the analysis.
+    """
     return None
 
 
