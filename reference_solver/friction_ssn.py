@@ -15,7 +15,11 @@ alone. One equation per retained dof (force units, N):
 
 A closed row whose tangential increment points along its force (``t . (s - s_ref) > 0``: friction
 pushing the motion on) is taken as sticking in the iterates, so its next step returns it to ``s_ref``.
-No solution has such a row (stick: s = s_ref; slip: s - s_ref opposes t), so C = 0 is unchanged; without
+No solution has such a row (stick: s = s_ref; slip: s - s_ref opposes t), so C = 0 is unchanged, except at
+s = s_ref to round-off, where the sign of t . (s - s_ref) is noise and the stick equation rho_t (s - s_ref) = 0
+holds with any |t|: a root of these iterate equations is accepted only where the plain equations vanish too,
+else the iteration goes on with the plain ones (issue 26: 8.9 kN of table friction against mu p = 6e-8 N
+was accepted on a corner row with mu = 1e-12, t . ds = +5e-16). Without
 it the Newton iterates lock such rows in a wrong-way slip and drift (most increments past liftoff
 did not settle and were cut back). Where those iterates run away (the onset of gross slip), the plain
 iteration follows and decides as before; ``WRONG_WAY_STICK = False`` keeps only the plain one.
@@ -141,11 +145,21 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     x = np.array(prev.x if x0 is None else x0, float)
     ev = _equations(x, *args)
     allslip = 0
+
+    def settled(C, lam):      # every entry within tol of the scale, or within ROUNDOFF x its own rounding error [N]
+        floor = ROUNDOFF * np.finfo(float).eps * (absS @ np.abs(x) + absf)
+        return np.all(np.abs(C) <= np.maximum(tol * max(scale, np.abs(lam).max()), floor))
+
     for it in range(1, maxit + 1):
         C, lam, act, stick, slip, nv, nxi, q, t, m = ev
         tflat, fflat = td[m], fi[m]
-        floor = ROUNDOFF * np.finfo(float).eps * (absS @ np.abs(x) + absf)   # per dof [N]
-        if np.all(np.abs(C) <= np.maximum(tol * max(scale, np.abs(lam).max()), floor)):
+        if settled(C, lam) and args[-1]:
+            plain = _equations(x, *args[:-1], False)     # wrong-way rows sticking: a root of the plain law too?
+            if not settled(plain[0], plain[1]):
+                args, ev = (*args[:-1], False), plain    # no (s = s_ref to round-off, |t| > mu p): go on plain
+                C, lam, act, stick, slip, nv, nxi, q, t, m = ev
+                tflat, fflat = td[m], fi[m]
+        if settled(C, lam):
             moving = np.linalg.norm((x[td] - s_ref) * m, axis=1) > 1e-12 * (np.abs(x).max() + 1e-300)
             on_cone = act[fr] & (np.linalg.norm(t, axis=1) >= (1 - 1e-8) * q)
             slipping = on_cone & (moving | prev.slip)        # a zero increment keeps the slip status
