@@ -34,15 +34,21 @@ def test_ids_no_dialect_carries_are_refused_at_import(tmp_path, first):
 
 def test_ids_beyond_nastran_fields_leave_the_nastran_decks_out_with_a_reason(tmp_path):
     """Ids from 500,000,001: `import` notes that nastran and mystran cannot carry them; `decks` refuses
-    those dialects in one line before writing; the CalculiX deck carries them (read back: the same ids)."""
+    those dialects in one line before writing when named (`--dialect`), leaves them out with a note
+    otherwise (as `run` does); the CalculiX deck carries them (read back: the same ids)."""
     f = _mesh(tmp_path, 500_000_001, 700_000_001)
     out = tmp_path / "m.yaml"
     r = CliRunner().invoke(main, ["import", str(f), "-o", str(out), "--base", "BASE", "--top", "TOP"])
     assert r.exit_code == 0, r.output
     assert "note: nastran decks cannot carry this mesh's ids" in r.output and "note: mystran" in r.output
     assert "note: calculix" not in r.output and "note: abaqus" not in r.output
-    r = CliRunner().invoke(main, ["decks", str(out), "-o", str(tmp_path / "all")])
-    assert r.exit_code == 2 and not (tmp_path / "all").exists()
+    r = CliRunner().invoke(main, ["decks", str(out), "-o", str(tmp_path / "all")])     # as run: the others, a note
+    assert r.exit_code == 0, r.output
+    assert "mystran deck: its decks would use ids up to" in r.output and "nastran" in r.output
+    names = [p.name for p in (tmp_path / "all").iterdir()]
+    assert any(n.endswith("_ccx_penalty.inp") for n in names) and not any(n.endswith(".bdf") for n in names)
+    r = CliRunner().invoke(main, ["decks", str(out), "-o", str(tmp_path / "my"), "--dialect", "mystran"])
+    assert r.exit_code == 2 and not (tmp_path / "my").exists()
     assert "mystran deck: its decks would use ids up to" in r.output.strip().splitlines()[-1]
     r = CliRunner().invoke(main, ["decks", str(out), "-o", str(tmp_path / "ccx"), "--dialect", "calculix"])
     assert r.exit_code == 0, r.output

@@ -95,7 +95,7 @@ def test_ccx_penalty_inside_the_small_strain_range_off_the_default_geometry(tmp_
     (R = 1.2 m, t = 12 mm: 0.987; ccx stopped at 0.985 and the reference did not settle)."""
     from deckbridge.quantities import free_penetration
     from deckbridge.solve import condense_model, solve_system
-    from tests.ccx_job import ccx_penalty_job
+    from ccx_job import ccx_penalty_job
 
     model = load(None, ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1", "steps.lambda_max=0.7",
                         "steps.increments=7", *geometry])
@@ -162,7 +162,7 @@ def test_ccx_mortar_with_a_stop_is_linear_and_matches_the_reference_lagrange(tmp
     Measured (24 x 6 x 1): table 0.063 % at lambda 0.8 (lift / R 0.0035), 0.23 % at 1; stop forces within
     0.1 % of their sum to 0.9. The NLGEOM deck it replaces was 1 % off at 0.7 and 10.8 % at 0.8."""
     from deckbridge.solve import condense_model, solve_system
-    from tests.ccx_job import ccx_job
+    from ccx_job import ccx_job
 
     model = load(None, SMALL + [f"contact.stop.side={side}"])
     assert not model.analysis.nlgeom
