@@ -149,7 +149,7 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
     n = s.increments
     return {
         "units": u, "unit_label": UNIT_LABEL[u.name], "nlgeom": model.analysis.nlgeom,
-        "base_elems": id_lines(lay.base_elems), "time_points": time_points(model),
+        "base_elems": id_lines(lay.bottom_elems), "time_points": time_points(model),
         "stiffness_note": stiffness_note(model, mesh),
         "title": model.title, "name": model.name,
         "skirt_elems": element_lines(elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)),
