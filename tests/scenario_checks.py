@@ -27,6 +27,8 @@ from scenarios import Run, table_state
 TOL_FORCE = 1e-3        # equilibrium: relative to N (forces) and N R (moments)
 TOL_CCX = 0.02          # ccx against the reference: fraction of the peak |sigma_N| of the state
 TOL_UNITS = 1e-6        # SI against mm: fraction of the largest value of the quantity
+TOL_CCX_FILES = 1e-5    # the same, for what ccx wrote: 6 significant digits in the .frd (E12.5), 7 in the .dat
+                        # (E13.6); two files rounded apart differ by up to 1e-5 of a value (seen: 3.2e-6)
 
 
 def ran(run: Run) -> str:
@@ -284,7 +286,7 @@ def paraview_si_equals_mm(run: Run) -> str:
             assert vb is not None, f"{fb.name}: no {key}"
             va, vb = np.asarray(va, float), np.asarray(vb, float)
             d = np.abs(va - vb).max(initial=0.0) / max(np.abs(va).max(initial=0.0), 1e-300)
-            assert d <= TOL_UNITS, f"{fb.name} {key}: SI vs mm differ by {d:.3g} of the largest"
+            assert d <= TOL_CCX_FILES, f"{fb.name} {key}: SI vs mm differ by {d:.3g} of the largest"
             n += 1
     return f"{n} arrays equal"
 
@@ -302,7 +304,7 @@ def si_equals_mm(run: Run) -> str:
     assert len(j) == len(a) == len(b), "SI and mm tables differ in rows"
     for col in ("sigma_n_pa", "gap_m", "force_n", "r", "theta_deg", "load_factor"):
         d = np.abs(j[f"{col}_si"] - j[f"{col}_mm"]).max() / max(np.abs(j[f"{col}_si"]).max(), 1e-300)
-        assert d <= TOL_UNITS, f"{col}: SI vs mm differ by {d:.3g} of the largest"
+        assert d <= TOL_CCX_FILES, f"{col}: SI vs mm differ by {d:.3g} of the largest"
     x_si = read_inp_mesh(deck).nodes
     x_mm = read_inp_mesh(run.out / "ccx" / deck.name).nodes
     assert np.abs(x_mm * 1e-3 - x_si).max() <= TOL_UNITS * np.abs(x_si).max(), "deck coordinates"

@@ -20,21 +20,9 @@ from scenarios import REFUSED, Case, covering_array, run_case
 
 CASES = [Case(levels) for levels in covering_array()]
 
-FIXED_ELSEWHERE = "issue 21 item {}: fixed on another branch"
-NEW_PADS_EBASE = ("new (found by the matrix, not fixed here): with pads the inp decks' EBASE (*EL PRINT) set holds "
-                  "the pad elements only, and the ccx wall reader needs the whole bottom row: run --with-ccx stops")
-ALL_BUT_DECKS = tuple(c for c in CHECKS if c != "decks_command")
-# (rule on the levels, invariants it breaks (None: all), reason); the first rule that matches marks the test
-KNOWN = [
-    (lambda v: v["mesh"] in ("inp", "bdf"), None, FIXED_ELSEWHERE.format(1)),   # Gmsh's .inp (CPS4), .bdf (CQUAD4)
-    (lambda v: v["pads"] == "pads" and v["stop"] != "none", None, FIXED_ELSEWHERE.format(2)),   # KeyError
-    (lambda v: v["pads"] == "pads", ALL_BUT_DECKS, NEW_PADS_EBASE),
-    (lambda v: v["tangential"] == "friction", ("decks_command",), FIXED_ELSEWHERE.format(16)),  # MYSTRAN refuses
-    (lambda v: v["stop"] != "none" and not v["nlgeom"], ("analysis_as_asked",), FIXED_ELSEWHERE.format(4)),
-    (lambda v: v["units"] == "mm", ("paraview_si_equals_mm",), FIXED_ELSEWHERE.format(5)),   # displacement in mm
-    (lambda v: v["tangential"] == "friction" and v["stop"] != "none", ("stop_frictionless",),
-     FIXED_ELSEWHERE.format(6)),                                                          # stop PGAP MU1, *FRICTION
-]
+# (rule on the levels, invariants it breaks (None: all), reason); the first rule that matches marks the test.
+# Empty: every item the matrix found (issue 21 items 1, 2, 4, 5, 6, 16; pads' EBASE set) is fixed on main.
+KNOWN: list = []
 
 
 def _params():
