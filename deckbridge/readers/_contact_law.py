@@ -38,7 +38,7 @@ LAW_REL = 1e-3
 GAP_FLOOR = 1e-8          # times the largest |r| of the table (1 m without radii) [m]
 LAGRANGE_METHODS = ("lagrange", "mortar")
 _STATE = ["source", "method", "step", "increment"]
-EXTRA = ("origin", "preload_pa")     # reader columns only this check uses
+EXTRA = ("origin", "preload_pa", "law_gap_m")     # reader columns only this check uses
 
 
 def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
@@ -49,6 +49,9 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
     raw = pd.to_numeric(df["sigma_n_pa"], errors="coerce").to_numpy(float)
     s = raw - np.nan_to_num(df["preload_pa"].to_numpy(float)) if "preload_pa" in df.columns else raw
     gap = pd.to_numeric(df["gap_m"], errors="coerce").to_numpy(float)
+    if "law_gap_m" in df.columns:           # the solver's own gap beside its pressure, where it printed one
+        own = pd.to_numeric(df["law_gap_m"], errors="coerce").to_numpy(float)
+        gap = np.where(np.isfinite(own), own, gap)
     method = df["method"].astype(str).to_numpy() if "method" in df.columns else np.full(len(df), "")
     keys = [c for c in _STATE if c in df.columns]
     group = df.groupby(keys, sort=False).ngroup().to_numpy() if keys else np.zeros(len(df), int)
