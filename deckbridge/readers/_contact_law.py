@@ -14,6 +14,17 @@ gaps), a row is refused when
   Lagrange-type (mortar) row, while its whole neighbourhood is open (its own azimuth and the two beside it:
   the mortar law constrains weighted gaps, :func:`_neighbourhood_gap`).
 
+The gap judged is the solver's own where the reader has it (column ``law_gap_m``: ccx's ``*CONTACT PRINT``
+CDIS normal of a node-to-surface penalty row, printed from the same contact element and solution as its
+CSTR pressure), else ``gap_m``. The table's gap_m is the model's clearance + n . u; the solver measures
+against its own master (ccx: faceted stop faces) from the deck's node coordinates, and the two differ by
+the mesh file's rounding: on an imported Gmsh .bdf skirt (8-character fields, 24 x 6 x 1) stop node 119
+sits 3.25e-6 m inside the stop master, so ccx closes it at n . u = 3.2e-6 m (its gap -4.1e-8 m, pressure
+K x 4.1e-8 = 4.6e4 Pa, K = 1.12e12 Pa/m) while gap_m reads +3.2e-6 m. ccx's LINEAR law (slope K, tension
+sigma_inf at wide clearances; ccx 2.20 springforc_n2f: p = -K c (1/2 + atan(-c/eps)/pi), eps = pi
+sigma_inf / K, c its clearance; no c0 there) never compresses at c > 0, and no gap scale of the law (p / K = 4.1e-8 m,
+eps ~ 5e-14 m) covers 3.2e-6 m: the law is judged on ccx's gap, not on a widened tolerance.
+
 A tension at an open node is left alone: penalty contacts carry a small one there (GAPUNI f_inf / A,
 ~1e-2 Pa on the mortar deck's stop), and tables written by hand (tests, other tools) hold beam-theory
 tension at lifted nodes.
@@ -21,12 +32,15 @@ tension at lifted nodes.
 Measured on real CalculiX 2.20 penalty (node-to-surface and GAPUNI), mortar, friction, mm/outer-stop
 runs and the reference solver (16 x 4 x 1/2 meshes): the worst row scored min(|sigma_n| / peak,
 |gap| / g) = 1.6e-5 on the wrong side (a mortar node next to a lifted one, compressed with a gap of
-4e-7 m); a flipped sign of a step-1 table node scores ~4e-2. Exempt: method ``linear`` (MYSTRAN's
+4e-7 m); a flipped sign of a step-1 table node scores ~4e-2. The imported .bdf skirt's node-to-surface
+penalty job (issue 26): judged on gap_m its worst row scored 1.15e-3 (node 119 above, refused), on ccx's
+own CDIS gap no row is on the wrong side (score 0); its sigma_n equals the reference penalty to 3.0e-4 of
+the peak, table and stop, at the 9 increments with lift / R <= 0.01. Exempt: method ``linear`` (MYSTRAN's
 closed springs carry tension by design and its gap is derived from the force), and a preload
 ``preload_pa`` column (Nastran PGAP F0 / area, compression < 0) is subtracted before the check.
 
 Where: the reader's optional ``origin`` column (file and line, or record) names the row; the table is
-returned without that column.
+returned without the :data:`EXTRA` columns (``origin``, ``preload_pa``, ``law_gap_m``).
 """
 
 from __future__ import annotations
@@ -40,7 +54,7 @@ LAW_REL = 1e-3
 GAP_FLOOR = 1e-8          # times the largest |r| of the table (1 m without radii) [m]
 LAGRANGE_METHODS = ("lagrange", "mortar")
 _STATE = ["source", "method", "step", "increment"]
-EXTRA = ("origin", "preload_pa")     # reader columns only this check uses
+EXTRA = ("origin", "preload_pa", "law_gap_m")     # reader columns only this check uses
 
 
 def _neighbourhood_gap(df: pd.DataFrame, gap: np.ndarray, group: np.ndarray) -> np.ndarray:
@@ -71,6 +85,9 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
     raw = pd.to_numeric(df["sigma_n_pa"], errors="coerce").to_numpy(float)
     s = raw - np.nan_to_num(df["preload_pa"].to_numpy(float)) if "preload_pa" in df.columns else raw
     gap = pd.to_numeric(df["gap_m"], errors="coerce").to_numpy(float)
+    if "law_gap_m" in df.columns:           # the solver's own gap beside its pressure, where it printed one
+        own = pd.to_numeric(df["law_gap_m"], errors="coerce").to_numpy(float)
+        gap = np.where(np.isfinite(own), own, gap)
     method = df["method"].astype(str).to_numpy() if "method" in df.columns else np.full(len(df), "")
     keys = [c for c in _STATE if c in df.columns]
     group = df.groupby(keys, sort=False).ngroup().to_numpy() if keys else np.zeros(len(df), int)

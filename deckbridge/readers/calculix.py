@@ -135,6 +135,7 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     disp: dict[tuple[int, float], dict[int, np.ndarray]] = {}
     cpress: dict[tuple[int, float], dict[int, float]] = {}
     contact: dict[tuple[int, float], list] = {}
+    contact_gap: dict[tuple[int, float], list] = {}     # ccx's own clearance per contact element (CDIS)
     where: dict[tuple[str, tuple[int, float]], dict[int, str]] = {}     # (what, key) -> node -> "file: line n"
     for b in frd_blocks:
         key = (b["step"], b["time"])
@@ -148,6 +149,8 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
         if b["kind"] == "contact":
             contact.setdefault(key, []).extend((n, v[0] / u.stress, _at(dat, ln))
                                                for (n, v), ln in zip(b["rows"], b["row_lines"]))
+        elif b["kind"] == "contact_gap":
+            contact_gap.setdefault(key, []).extend((n, v[0] / u.length) for n, v in b["rows"])
         elif b["kind"] == "forces":
             forces.setdefault(key, {}).update({n: v / u.force for n, v in b["values"].items()})
             where.setdefault(("rf", key), {}).update({n: _at(dat, ln) for n, ln in b["line"].items()})
@@ -157,8 +160,8 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     n2f = method == "penalty" and ("n2f_order" in job or (not gaps and model is not None
                                                           and ccx_penalty_is_n2f(model)))
     if n2f:
-        sigmas, origins = _n2f_sigma(stem, sl, job, model, contact)
-        return _frames(sl, method, lam, sigmas, disp, stem, origins)
+        sigmas, origins, law_gaps = _n2f_sigma(stem, sl, job, model, contact, contact_gap)
+        return _frames(sl, method, lam, sigmas, disp, stem, origins, law_gaps)
     table = sl.surface == "table"
     gap_rows = np.ones(sl.node.size, bool) if method == "penalty" else ~table
     mortar_rows = ~gap_rows
@@ -201,12 +204,16 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     return _frames(sl, method, lam, sigmas, disp, stem, origins)
 
 
-def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
-    """sigma_n per time of a node-to-surface penalty job: -CSTR x A_ccx / A (force k_c d over the model's area).
+def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict, contact_gap: dict | None = None):
+    """sigma_n per time of a node-to-surface penalty job: -CSTR x A_ccx / A (force k_c d over the model's area),
+    the rows' origins and ccx's own gap of each row (the CDIS ``normal`` printed beside it, NaN without one).
 
     ccx prints one row per contact element, in contact-pair order, and leaves out slave nodes far from
     their master (lifted): rows are matched to the pairs' (node, surface) sequence in order; a node without
-    a row carries no force (sigma_n = 0, open).
+    a row carries no force (sigma_n = 0, open). CDIS and CSTR come from the same contact elements of the same
+    solution, row for row; their gap is against the deck's own (faceted) master and the deck's node
+    coordinates, which the table's gap_m (model clearance + n . u) is not: the contact-law check judges ccx's
+    pressure against ccx's gap (column ``law_gap_m``, dropped after the check).
     """
     if "n2f_order" in job:
         order, area = job["n2f_order"], job["n2f_area"]
@@ -220,12 +227,16 @@ def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
     if not contact:
         raise DeckbridgeError(f"{str(stem.with_suffix('.dat'))!r}: no contact stress block (*CONTACT PRINT CSTR) "
                               "of a node-to-surface penalty job")
-    out, origins = {}, {}
+    out, origins, law_gaps = {}, {}, {}
     for key, rows in contact.items():
         sigma = np.zeros(sl.node.size)
         origin = np.full(sl.node.size, None, object)
+        law_gap = np.full(sl.node.size, np.nan)
+        cdis = (contact_gap or {}).get(key, [])
+        if [n for n, _ in cdis] != [n for n, _, _ in rows]:
+            cdis = [(None, np.nan)] * len(rows)          # no CDIS block row for row: judged on gap_m
         k = 0
-        for node, press, at in rows:
+        for (node, press, at), (_, g) in zip(rows, cdis):
             while k < len(order) and order[k][0] != node:
                 k += 1
             if k == len(order):
@@ -236,9 +247,10 @@ def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict) -> dict:
                 raise DeckbridgeError(f"{str(stem)!r}: {order[k][1]} slave node {node} is not a slave of the model")
             sigma[i] = -press * area[order[k]] / sl.area[i]
             origin[i] = at
+            law_gap[i] = g
             k += 1
-        out[key], origins[key] = sigma, origin
-    return out, origins
+        out[key], origins[key], law_gaps[key] = sigma, origin, law_gap
+    return out, origins, law_gaps
 
 
 def _at(path: Path, line: int) -> str:
@@ -247,7 +259,7 @@ def _at(path: Path, line: int) -> str:
 
 
 def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path,
-            origins: dict | None = None) -> pd.DataFrame:
+            origins: dict | None = None, law_gaps: dict | None = None) -> pd.DataFrame:
     """The tidy table from sigma_n per (step, time) and the slave displacements; ``origins``: per
     (step, time) the file and line of each row's value (column ``origin``, dropped after the checks)."""
     frames, counters = [], {}
@@ -264,7 +276,8 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
             "load_factor": 0.0 if step == 1 else lam * (t - (step - 1)), "node": sl.node,
             "surface": sl.surface, "theta_deg": sl.theta, "z": sl.z, "r": sl.r, "sigma_n_pa": sigma,
             "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open"),
-            **({"origin": origins[(step, t)]} if origins else {})}), sl.area))
+            **({"origin": origins[(step, t)]} if origins else {}),
+            **({"law_gap_m": law_gaps[(step, t)]} if law_gaps else {})}), sl.area))
     if not frames:
         raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
     return pd.concat(frames, ignore_index=True)

@@ -18,6 +18,8 @@ from ._files import INP_UNITS_TAG, read_text
 
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
 _DAT_CONTACT = re.compile(r"^\s*contact stress \(slave node,press,tang1,tang2\) for all contact elements and time\s+(\S+)")
+_DAT_CDIS = re.compile(r"^\s*relative contact displacement \(slave node,normal,tang1,tang2\) for all contact elements "
+                       r"and time\s+(\S+)")
 _META_N2F = "** deckbridge-n2f "
 _META_UNITS = INP_UNITS_TAG
 _META_JOB = "** deckbridge-job"
@@ -102,7 +104,8 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
 # --- ccx files ----------------------------------------------------------------------------------------
 def _dat_blocks(path: Path) -> list[dict]:
     """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}, {node: line number}
-    (contact blocks also ``rows`` [(node, values)] and ``row_lines``, in file order)."""
+    (contact blocks also ``rows`` [(node, values)] and ``row_lines``, in file order: ``contact`` the CSTR
+    block, ``contact_gap`` the CDIS block, whose ``normal`` is ccx's own clearance, > 0 open)."""
     blocks, cur = [], None
     for line_no, line in enumerate(read_text(path).splitlines(), 1):
         m = _DAT_HEAD.match(line)
@@ -111,10 +114,10 @@ def _dat_blocks(path: Path) -> list[dict]:
                    "line": {}}
             blocks.append(cur)
             continue
-        m = _DAT_CONTACT.match(line)
+        m = _DAT_CONTACT.match(line) or _DAT_CDIS.match(line)
         if m:
-            cur = {"kind": "contact", "set": "", "time": float(m.group(1)), "values": {}, "line": {}, "rows": [],
-                   "row_lines": []}
+            cur = {"kind": "contact" if m.re is _DAT_CONTACT else "contact_gap", "set": "",
+                   "time": float(m.group(1)), "values": {}, "line": {}, "rows": [], "row_lines": []}
             blocks.append(cur)
             continue
         parts = line.split()
