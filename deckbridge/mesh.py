@@ -106,5 +106,4 @@ def build_mesh(model: Model) -> SkirtMesh:
     return SkirtMesh(nodes=nodes, hexes=hexes, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=w[top_nodes],
                      ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz,
-                     base_elems=base_elems, top_elems=np.flatnonzero(top), stop_elems=stop_elems,
-                     bottom_elems=np.flatnonzero(base))
+                     base_elems=base_elems, top_elems=np.flatnonzero(top), stop_elems=stop_elems)

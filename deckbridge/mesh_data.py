@@ -127,7 +127,6 @@ class SkirtMesh:
     n_z: int
     base_elems: np.ndarray | None = None   # hexahedra whose face 1-2-3-4 (S1) is a table slave face
     top_elems: np.ndarray | None = None    # hexahedra whose face 5-6-7-8 (S2) is loaded
-    bottom_elems: np.ndarray | None = None  # the whole bottom element row (with pads: more than base_elems)
     stop_elems: np.ndarray | None = None   # first-row hexahedra on the stop side (S6 inner / S4 outer)
     node_ids: np.ndarray | None = None     # user node id of every node (None: index + 1)
     elem_ids: np.ndarray | None = None     # user element id of every hexahedron (None: index + 1)

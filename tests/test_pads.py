@@ -197,3 +197,21 @@ def test_pad_off_the_element_boundaries_is_snapped_with_a_note_or_refused(tmp_pa
                                       for a in ("--set", o)]])
     assert res.exit_code == 2 and res.stderr.count("\n") == 1 and "contact.pads.first_deg = 0" in res.stderr
     assert not (tmp_path / "e").exists()
+
+
+def test_pads_ccx_ebase_is_the_whole_bottom_row_and_balances_N(tmp_path):
+    """The inp decks' EBASE (*EL PRINT set of the base-wall stresses) is the whole bottom element row, pads
+    or not: the reader integrates sigma_zz over every bottom-row face (issue 21.2) and stopped with 'element
+    2: no stress at integration point 1' when EBASE was the pad elements only. Checked on ccx's own output:
+    at lambda = 0 the wall's axial resultant over the base section is N."""
+    from ccx_job import ccx_penalty_job
+
+    from deckbridge.readers.ccx_el_stress import read_base_wall
+
+    m = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "contact.stop.side=none",
+                    "contact.pads={count: 4, width_deg: 45, first_deg: 0}", "steps.increments=2",
+                    "outputs.vtu=false"])
+    w = read_base_wall(ccx_penalty_job(m, tmp_path), m)
+    s1 = w[w.step == 1]
+    assert len(s1) == 16
+    assert -(s1.szz_mean_pa * s1.area_m2).sum() == pytest.approx(m.loads.N, rel=0.01)

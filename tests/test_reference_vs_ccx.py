@@ -194,3 +194,33 @@ def test_ccx_mortar_with_a_stop_is_linear_and_matches_the_reference_lagrange(tmp
     assert max(lam for lam, _, _ in compared) >= 0.8                   # the report's headline lambda
     assert any(stop for _, stop, _ in compared) and any(lifted for _, _, lifted in compared)
     assert len(steps) == 2 and not nlgeom
+
+
+def test_ccx_mortar_friction_takes_small_increments_and_matches_the_reference_lagrange(tmp_path):
+    """Scenario matrix case parametric-stop_none-nr2-tR0.03-pads-cylinder-friction-SI-distributing-linear
+    (16 x 4 x 2, pads, no stop, Coulomb mu 0.3, 5 increments). With ccx's maximum increment = the output
+    spacing 0.2 ccx's mortar *FRICTION landed 100 % of the peak off the reference Lagrange at lambda 0.8
+    (the pad-edge force all on the inner nodes, 159 against 26 MPa, the mid nodes free); the deck now caps
+    step 2's increment at 1 / (MORTAR_FRICTION_SUBSTEPS x increments): every lambda within 2 % of the peak
+    (measured 0.20 %). The reference is increment-independent here (5 against 50 increments: <= 0.11 %)."""
+    from ccx_job import ccx_job
+
+    from deckbridge.render import calculix
+    from deckbridge.solve import solve_model
+
+    model = load(None, ["geometry.radius=1.5", "geometry.height=2.0", "geometry.thickness=0.045",
+                        "mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=2", "contact.stop.side=none",
+                        "load_introduction=distributing", "steps.increments=5", "outputs.vtu=false",
+                        "contact.pads={count: 4, width_deg: 45, first_deg: 0}",
+                        "contact.tangential=friction", "contact.friction=0.3"])
+    deck = ccx_job(model, tmp_path, "lagrange")
+    ref = solve_model(model, "lagrange")[0]
+    ccx = read(deck.with_suffix(".frd"), fmt="calculix", model=model)
+    j = ref[ref.surface == "table"].merge(ccx[ccx.surface == "table"], on=["step", "increment", "node"],
+                                          suffixes=("_r", "_c"))
+    assert j.groupby(["step", "increment"]).ngroups == 6
+    for (_, _), g in j.groupby(["step", "increment"]):
+        peak = np.abs(g.sigma_n_pa_r).max()
+        assert np.abs(g.sigma_n_pa_r - g.sigma_n_pa_c).max() < 0.02 * peak, g.load_factor_r.iloc[0]
+    static = deck.read_text().split("*STATIC\n")[2].splitlines()[0]
+    assert float(static.split(",")[3]) == pytest.approx(1 / (5 * calculix.MORTAR_FRICTION_SUBSTEPS))

@@ -166,7 +166,7 @@ def contact_mesh(model, nodes, hexes, base, top, stop_set, node_ids, elem_ids) -
     return SkirtMesh(nodes=nodes, hexes=hexes, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=w[top_nodes],
                      ref_point=np.array([0.0, 0.0, float(np.mean(nodes[top_nodes, 2]))]),
-                     n_theta=n_theta, n_r=n_r, n_z=n_z, base_elems=base_elems, top_elems=top_elems, bottom_elems=on_base,
+                     n_theta=n_theta, n_r=n_r, n_z=n_z, base_elems=base_elems, top_elems=top_elems,
                      stop_elems=stop_elems, node_ids=np.asarray(node_ids, np.int64),
                      elem_ids=np.asarray(elem_ids, np.int64))
 

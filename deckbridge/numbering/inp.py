@@ -65,8 +65,7 @@ class Layout:
     stop_master: Ring | None
     next_node: int                   # first free node id after the rings
     next_elem: int                   # first free element id after the rings (first SPRING1)
-    base_elems: np.ndarray           # first-row element ids whose face S1 is a table slave face (pads: on a pad)
-    bottom_elems: np.ndarray         # the whole first element row: the EBASE stress set (*EL PRINT)
+    base_elems: np.ndarray           # first-row element ids (table slave faces S1; the EBASE stress set)
     stop_elems: np.ndarray           # first-row element ids on the stop side (faces S6 inner / S4 outer)
     stop_face: str
     top_elems: np.ndarray            # top-row element ids (coupling faces S2)
@@ -127,14 +126,12 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
     else:
         stop_elems, stop_face = j + 1, FACE_INNER
     top = np.concatenate([((nz - 1) * nr + i) * nt + j for i in range(nr)]) + 1
-    bottom = base
     if mesh.base_elems is not None:   # the mesh's own face sets (pads, imported meshes)
         base, top = elem_ids(mesh, mesh.base_elems), elem_ids(mesh, mesh.top_elems)
         stop_elems = elem_ids(mesh, mesh.stop_elems)
-        bottom = base if mesh.bottom_elems is None else elem_ids(mesh, mesh.bottom_elems)
     return Layout(model=model, mesh=mesh, ref_node=ref_node, ref_xyz=np.asarray(mesh.ref_point, float),
                   table_master=table_master, stop_master=stop_master, next_node=next_node,
-                  next_elem=next_elem, base_elems=base, bottom_elems=bottom, stop_elems=stop_elems, stop_face=stop_face,
+                  next_elem=next_elem, base_elems=base, stop_elems=stop_elems, stop_face=stop_face,
                   top_elems=top, loads=model.load_vectors())
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model import Model
 from ..numbering.inp import Layout
-from ..numbering.skirt import elem_ids, mesh_node_ids
+from ..numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
 from ..units import UNIT_LABEL, Units, scale
 
 PER_LINE = 8   # ids per data line of *NSET / *ELSET (both codes accept up to 16)
@@ -149,7 +149,8 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
     n = s.increments
     return {
         "units": u, "unit_label": UNIT_LABEL[u.name], "nlgeom": model.analysis.nlgeom,
-        "base_elems": id_lines(lay.bottom_elems), "time_points": time_points(model),
+        "base_elems": id_lines(elem_ids(mesh, bottom_row_index(mesh))),   # EBASE: the whole row, pads or not
+        "time_points": time_points(model),
         "stiffness_note": stiffness_note(model, mesh),
         "title": model.title, "name": model.name,
         "skirt_elems": element_lines(elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)),
