@@ -113,7 +113,7 @@ def newton(sysf, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, t
     The energy 1/2 x'Sx - f'x + normal spring + tangential (quadratic, then linear beyond ``cap``)
     is convex, so the iterates descend; when it has no minimum (the load slides or lifts the body)
     they run beyond ``max_disp``: :class:`GrossSlip` when every closed friction row slips and the load
-    slides the body (:meth:`FrictionSystem.slides`), else
+    slides the body (:meth:`FrictionSystem.slides`; NotConverged when it does not), else
     :class:`Unbounded`.
     """
     x = np.array(x0, float)
@@ -171,11 +171,15 @@ def newton(sysf, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, t
 
 
 def _unbounded(sysf, p, active, slip, f, strict=False):
-    """Raise why the iterates stop: GrossSlip where every closed friction row slips and the load slides the
-    body at the normal forces ``p`` (:meth:`FrictionSystem.slides`), else Unbounded (NotConverged: ``strict``)."""
+    """Raise why the iterates stop: where every closed friction row slips, GrossSlip if the load slides the body
+    at the normal forces ``p`` (:meth:`FrictionSystem.slides`), else NotConverged (an artefact of the iterates:
+    a thin base's rows all slip radially under N); otherwise Unbounded (NotConverged: ``strict``)."""
     fr_active = active[sysf.rows]
-    if fr_active.any() and np.all(slip[fr_active]) and sysf.slides(f, p, active):
-        raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
+    if fr_active.any() and np.all(slip[fr_active]):
+        if sysf.slides(f, p, active):
+            raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
+        raise NotConverged("friction Newton: every closed row slips, the load does not slide the body, and the "
+                           "iterates do not settle")       # the path cuts the increment back, as it did on GrossSlip
     if strict:
         raise NotConverged("friction Newton did not converge")
     raise Unbounded("no bounded equilibrium")
