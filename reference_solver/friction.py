@@ -57,6 +57,9 @@ from .frames import complete_basis
 from .problem import Problem
 
 ANDERSON = 5             # depth of the Anderson acceleration of the Lagrange multiplier updates (0: off)
+AL_RHO = (1.0, 1.0e-2)    # the augmented Lagrangian's rho, times the path's (RHO_FACTOR diag S), tried in turn:
+                          # a thin base's soft modes (ring growth and tilt, ~1e-5 diag S) stall the inner
+                          # Newton in the kinks of the stiff one (docs/friction.md, section 5)
 AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
 PREDICTOR_TOL = 1.0e-6    # relative settling of the Lagrange predictor's slip thresholds (a predictor only)
 LAGRANGE_SSN = True       # Lagrange: semi-smooth Newton (friction_ssn) instead of the augmented Lagrangian
@@ -79,6 +82,8 @@ class FrictionSystem:
     cache: dict = field(default_factory=dict, repr=False)   # H0^-1 per (k, k_t), see _base_inverse
     corner: str = "stop"          # corner rule: 'stop' (stop first) or 'both' (table friction on every axis)
     views: dict = field(default_factory=dict, repr=False)   # this system under the other corner rule
+    modes: np.ndarray | None = field(default=None, repr=False)   # slide_modes, once built
+    dirs: np.ndarray | None = field(default=None, repr=False)    # slides' trial directions, once built
 
     @property
     def tmask(self) -> np.ndarray:
@@ -96,6 +101,64 @@ class FrictionSystem:
             nc = self.problem.n_contacts
             m = m | ((self.tdofs < nc) & ~np.asarray(active, bool)[np.minimum(self.tdofs, nc - 1)])
         return m
+
+    @property
+    def slide_modes(self) -> np.ndarray:
+        """(nr, 3) the retained dofs of the body's rigid slides on the table: translations along two
+        tangent axes of the table and the rotation about its normal through the friction nodes' centroid
+        (unit translation, unit rotation [rad]); the motions that friction alone holds."""
+        if self.modes is None:
+            p = self.problem
+            nr = self.S.shape[0]
+            node, dirs = np.zeros(nr, np.int64), np.zeros((nr, 3))
+            node[:p.n_contacts], dirs[:p.n_contacts] = p.contact_nodes, p.contact_normals
+            ns = p.n_springs
+            node[p.n_contacts:p.n_contacts + ns] = p.spring_nodes
+            dirs[p.n_contacts:p.n_contacts + ns] = np.asarray(p.spring_dirs).reshape(-1, 3)
+            fn = p.contact_nodes[self.rows]
+            node[self.tdofs.ravel()] = np.repeat(fn, 2)
+            dirs[self.tdofs.ravel()] = self.tdir.reshape(-1, 3)
+            n = p.contact_normals[self.rows].mean(axis=0)
+            n /= np.linalg.norm(n)
+            a, b = _tangent_axes([n])
+            r = p.nodes[node] - p.nodes[fn].mean(axis=0)
+            B = np.stack([dirs @ a, dirs @ b, np.einsum("ik,ik->i", dirs, np.cross(n, r))], axis=1)
+            self.modes = B
+        return self.modes
+
+    def slides(self, f: np.ndarray, p: np.ndarray, closed: np.ndarray) -> bool:
+        """Whether the load ``f`` (nr,) slides the body on the table at the normal forces ``p`` (nc,) [N]
+        (> 0 compressive) of the ``closed`` (nc,) rows: some rigid slide c (:attr:`slide_modes`), into no
+        closed contact, along which the load does more work than the table's friction dissipates,
+        f . B c > mu sum_i p_i |B_i c| (the friction rows' tangential part). That is gross slip; every closed
+        row slipping is not: with no stop the base may slip radially everywhere under N alone (Poisson),
+        a growth of the base ring, and the load there has no in-plane resultant (docs/friction.md,
+        section 5). Checked on a fixed set of slide directions plus the load's own translation and
+        rotation."""
+        B = self.slide_modes
+        g = f @ B                                                  # the load's in-plane force and torque
+        pr = self.problem
+        nodes = pr.nodes[pr.contact_nodes[self.rows]]
+        L = max(float(np.sqrt(np.mean(np.sum((nodes - nodes.mean(axis=0)) ** 2, axis=1)))), 1e-300)
+        gs = g * np.array([1.0, 1.0, 1.0 / L])                     # per unit translation / rotation x L
+        if not np.all(np.isfinite(gs)) or np.linalg.norm(gs) <= 1e-12 * np.abs(f).max():
+            return False
+        if self.dirs is None:
+            n = 2000                                              # a Fibonacci sphere of slide directions
+            i = np.arange(n) + 0.5
+            z = 1 - 2 * i / n
+            ph = np.pi * (1 + 5 ** 0.5) * i
+            self.dirs = np.stack([np.sqrt(1 - z * z) * np.cos(ph), np.sqrt(1 - z * z) * np.sin(ph), z], axis=1)
+        own = [gs / np.linalg.norm(gs), np.r_[gs[:2], 0.0], np.r_[0.0, 0.0, gs[2]]]
+        C = np.vstack([self.dirs] + [o / np.linalg.norm(o) for o in own if np.linalg.norm(o) > 0])
+        C = C * np.array([1.0, 1.0, 1.0 / L])                      # back to (translation, rotation [rad])
+        closed = np.asarray(closed, bool)
+        move = C @ B[:pr.n_contacts][closed].T                    # opening (> 0) of the closed rows
+        ok = np.all(move >= -1e-9 * np.abs(move).max(initial=0.0), axis=1)
+        pn = pr.friction * np.where(closed, np.maximum(p, 0.0), 0.0)[self.rows]
+        diss = np.linalg.norm(np.einsum("fak,ck->cfa", B[self.tdofs], C), axis=2) @ pn
+        work = C @ g
+        return bool(np.any(ok & (work > diss) & (work > 1e-9 * np.linalg.norm(g))))
 
     def with_corner(self, corner: str) -> "FrictionSystem":
         """This system under the corner rule ``corner`` (shares S and the condensation; one view per rule)."""
@@ -227,6 +290,20 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
             runaway = isinstance(exc, Runaway)         # the augmented Lagrangian below, the last resort
     else:
         runaway = False
+    first = None
+    for scale in AL_RHO:                               # the last resort, its rho from stiff to soft
+        try:
+            return _augmented(sysf, f, prev, mu, max_disp, scale * rho, tol, maxit, rho_steps, rho_growth, runaway)
+        except (NotConverged, Unbounded) as exc:       # GrossSlip: the load slides the body, said at once
+            first = first or exc
+    raise first
+
+
+def _augmented(sysf, f, prev, mu, max_disp, rho, tol, maxit, rho_steps, rho_growth, runaway):
+    """The augmented-Lagrangian multiplier updates of :func:`solve_increment` with the penalty ``rho`` [N/m]."""
+    s_ref = prev.x[sysf.tdofs]
+    nf, fr = sysf.rows.size, sysf.rows
+    x, its = prev.x, 0
     p0 = np.where(prev.active, np.maximum(prev.p, 0.0), 0.0)
     t0 = prev.t.copy()
     zero = np.zeros_like(rho)

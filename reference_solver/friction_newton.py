@@ -112,7 +112,8 @@ def newton(sysf, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, t
 
     The energy 1/2 x'Sx - f'x + normal spring + tangential (quadratic, then linear beyond ``cap``)
     is convex, so the iterates descend; when it has no minimum (the load slides or lifts the body)
-    they run beyond ``max_disp``: :class:`GrossSlip` when every closed friction row slips, else
+    they run beyond ``max_disp``: :class:`GrossSlip` when every closed friction row slips and the load
+    slides the body (:meth:`FrictionSystem.slides`; NotConverged when it does not), else
     :class:`Unbounded`.
     """
     x = np.array(x0, float)
@@ -153,26 +154,32 @@ def newton(sysf, f, k, k_open, kt, cap, p0, t0, s_ref, x0, max_disp, maxit=60, t
         if np.abs(r).max() <= 1e3 * tol * fscale and step <= 1e-3:      # round-off floor
             return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=it)
         if not np.all(np.isfinite(dx)) or np.abs(x + step * dx).max() > max_disp:
-            _unbounded(sysf, active, slip)
+            _unbounded(sysf, p, active, slip, f)
         if step <= 1e-3:                                     # no descent: sliding on, or stuck in a kink
-            _unbounded(sysf, active, slip, strict=True)
+            _unbounded(sysf, p, active, slip, f, strict=True)
         x, out = x + step * dx, new
         fa = active[sysf.rows]
         allslip = allslip + 1 if (fa.any() and np.all(slip[fa])) else 0
         if allslip > 25:                                     # sliding on: no minimum in sight
-            _unbounded(sysf, active, slip)
+            _unbounded(sysf, p, active, slip, f)
     p, dp, active, t, nd, norm, slip, _ = out
     r = _residual(sysf, f, x, p, t)
     if np.abs(r).max() <= 1e3 * tol * fscale:                   # round-off floor reached
         return State(x=x, p=p, t=t, active=active, slip=slip & active[sysf.rows], iterations=maxit)
-    _unbounded(sysf, active, slip, strict=True)
+    _unbounded(sysf, p, active, slip, f, strict=True)
     raise NotConverged(f"friction Newton did not converge in {maxit} iterations")
 
 
-def _unbounded(sysf, active, slip, strict=False):
+def _unbounded(sysf, p, active, slip, f, strict=False):
+    """Raise why the iterates stop: where every closed friction row slips, GrossSlip if the load slides the body
+    at the normal forces ``p`` (:meth:`FrictionSystem.slides`), else NotConverged (an artefact of the iterates:
+    a thin base's rows all slip radially under N); otherwise Unbounded (NotConverged: ``strict``)."""
     fr_active = active[sysf.rows]
     if fr_active.any() and np.all(slip[fr_active]):
-        raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
+        if sysf.slides(f, p, active):
+            raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
+        raise NotConverged("friction Newton: every closed row slips, the load does not slide the body, and the "
+                           "iterates do not settle")       # the path cuts the increment back, as it did on GrossSlip
     if strict:
         raise NotConverged("friction Newton did not converge")
     raise Unbounded("no bounded equilibrium")

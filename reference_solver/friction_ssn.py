@@ -128,7 +128,9 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
     """One increment of exact Coulomb friction from the converged state ``prev`` (a friction.State).
 
     Raises :class:`reference_solver.friction.GrossSlip` when the iterates run away with every closed
-    friction row slipping (the load slides the body), :class:`Unbounded` when they run away otherwise,
+    friction row slipping and the load slides the body at the iterate's normal forces (
+    :meth:`reference_solver.friction.FrictionSystem.slides`; every row slipping radially under N alone is
+    not that), :class:`Unbounded` when they run away otherwise,
     :class:`reference_solver.friction.NotConverged` when they do not settle in ``maxit`` steps.
     """
     pr = sysf.problem
@@ -205,7 +207,7 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
         fa = act[fr]
         allslip_now = bool(fa.any() and np.all(nxi[fa] > q[fa]))   # beyond the cone (wrong-way rows too)
         if not np.all(np.isfinite(dx)) or np.abs(x + dx).max() > max_disp:
-            if allslip_now or allslip:
+            if (allslip_now or allslip) and (not np.all(np.isfinite(dx)) or sysf.slides(f, lam[:nc], act)):
                 raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
             if not np.all(np.isfinite(dx)):
                 raise NotConverged("Lagrange friction: singular Newton system")
@@ -224,6 +226,6 @@ def _ssn(sysf, f, prev, mu, max_disp, tol=1e-11, maxit=60, x0=None, qfix=None, r
         x, ev = x + step * dx, new
     C, lam, act, stick, slip, nv, nxi, q, t, _ = ev
     fa = act[fr]
-    if allslip or (fa.any() and np.all(nxi[fa] > q[fa])):
+    if (allslip or (fa.any() and np.all(nxi[fa] > q[fa]))) and sysf.slides(f, lam[:nc], act):
         raise GrossSlip("the load slides the body (gross slip: friction cannot carry the tangential load)")
     raise NotConverged(f"Lagrange friction: the semi-smooth Newton did not settle in {maxit} steps")
