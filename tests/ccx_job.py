@@ -22,3 +22,20 @@ def ccx_job(model, folder: Path, deck: str = "penalty") -> Path:
 def ccx_penalty_job(model, folder: Path) -> Path:
     """:func:`ccx_job` of the node-to-surface penalty deck."""
     return ccx_job(model, folder, "penalty")
+
+
+def small_strain_pairs(model, system, sol, ref, ccx):
+    """Yield ``(step, load_factor, joined)`` at every increment of the reference solution ``sol`` whose table lift
+    / (R + t/2) <= 0.01 (the small-strain range): ``joined`` = the reference table ``ref`` merged with the ccx table
+    ``ccx`` on node and surface (suffixes ``_r``, ``_c``). ccx's step 2 starts at its first increment (no lambda 0)."""
+    import numpy as np
+    g = model.geometry
+    table = system.problem.contact_surface == "table"
+    for k, lam in enumerate(sol.load_factor):
+        lift = float(np.max(sol.gap[k, table], initial=0.0)) / (g.radius + g.thickness / 2)
+        step = int(sol.step[k])
+        if lift > 0.01 or (step == 2 and lam == 0.0):
+            continue
+        r = ref[(ref.step == step) & np.isclose(ref.load_factor, lam)]
+        c = ccx[(ccx.step == step) & np.isclose(ccx.load_factor, lam)]
+        yield step, float(lam), r.merge(c, on=["node", "surface"], suffixes=("_r", "_c"))

@@ -35,14 +35,17 @@ def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
             "node_ids": nids[keep], "xyz": xyz[keep], "elem_ids": eids, "conn": conn, "sets": sets}
 
 
-def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r) -> None:
+def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius=None, scale=1.0) -> dict:
     """The Gmsh model of :func:`gmsh_skirt` (geometry, transfinite meshing constraints, physical groups
-    SKIRT (volumes), BASE and TOP (faces)), not yet meshed."""
+    SKIRT (volumes), BASE and TOP (faces)), not yet meshed: R, t, H [m], ``top_radius`` the mid-wall radius at the
+    top (a cone: the revolved section is a parallelogram; None: R), coordinates times ``scale`` (1000: mm).
+    Returns the physical group tags {'BASE': tag, 'TOP': tag}."""
+    s, rt = scale, (R if top_radius is None else top_radius)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.model.add("skirt")
     geo = gmsh.model.geo
-    p = [geo.addPoint(R - t / 2, 0, 0), geo.addPoint(R + t / 2, 0, 0),
-         geo.addPoint(R + t / 2, 0, H), geo.addPoint(R - t / 2, 0, H)]
+    p = [geo.addPoint(s * (R - t / 2), 0, 0), geo.addPoint(s * (R + t / 2), 0, 0),
+         geo.addPoint(s * (rt + t / 2), 0, s * H), geo.addPoint(s * (rt - t / 2), 0, s * H)]
     lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
     loop = geo.addCurveLoop(lines)
     surf = geo.addPlaneSurface([loop])
@@ -63,8 +66,8 @@ def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r) -> None:
     gmsh.model.geo.removeAllDuplicates()
     geo.synchronize()
     gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
-    gmsh.model.addPhysicalGroup(2, bottoms, name="BASE")
-    gmsh.model.addPhysicalGroup(2, tops, name="TOP")
+    return {name: gmsh.model.addPhysicalGroup(2, faces, name=name) for name, faces in (("BASE", bottoms),
+                                                                                        ("TOP", tops))}
 
 
 def _mesh_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, written=False) -> None:
@@ -169,34 +172,9 @@ def gmsh_files(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=16, n_z=4, n_r=1, top
 def _files_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, top_radius, unit) -> None:
     """The Gmsh part of :func:`gmsh_files` (child process)."""
     import gmsh
-    s = {"m": 1.0, "mm": 1000.0}[unit]
-    rt = R if top_radius is None else top_radius
     gmsh.initialize(["-noenv"])
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("skirt")
-        geo = gmsh.model.geo
-        p = [geo.addPoint(s * (R - t / 2), 0, 0), geo.addPoint(s * (R + t / 2), 0, 0),
-             geo.addPoint(s * (rt + t / 2), 0, s * H), geo.addPoint(s * (rt - t / 2), 0, s * H)]
-        lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
-        surf = geo.addPlaneSurface([geo.addCurveLoop(lines)])
-        for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
-            geo.mesh.setTransfiniteCurve(ln, n + 1)
-        geo.mesh.setTransfiniteSurface(surf)
-        geo.mesh.setRecombine(2, surf)
-        vols, bottoms, tops, cur = [], [], [], (2, surf)
-        for _ in range(4):   # four quarters (one revolution of 360 deg is not allowed)
-            out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
-            vols.append(out[1][1])
-            bottoms.append(out[2][1])
-            tops.append(out[4][1])
-            cur = out[0]
-        geo.synchronize()
-        gmsh.model.geo.removeAllDuplicates()
-        geo.synchronize()
-        gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
-        groups = {name: gmsh.model.addPhysicalGroup(2, faces, name=name)
-                  for name, faces in (("BASE", bottoms), ("TOP", tops))}
+        groups = _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius, {"m": 1.0, "mm": 1000.0}[unit])
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.removeDuplicateNodes()
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)

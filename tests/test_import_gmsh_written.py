@@ -148,7 +148,7 @@ def test_ccx_penalty_on_a_gmsh_bdf_skirt_is_read_and_equals_the_reference(writte
         pytest.skip("ccx not installed")
     from deckbridge.readers import read
     from deckbridge.solve import condense_model, solve_system
-    from tests.ccx_job import ccx_penalty_job
+    from ccx_job import ccx_penalty_job, small_strain_pairs
 
     model = _model(written, "bdf", "mm", tmp_path)
     mesh, system = condense_model(model)
@@ -156,18 +156,9 @@ def test_ccx_penalty_on_a_gmsh_bdf_skirt_is_read_and_equals_the_reference(writte
     ccx = read(ccx_penalty_job(model, tmp_path).with_suffix(".frd"), fmt="calculix", model=model)
     stop = ccx[ccx.surface == "stop"]
     assert ((stop.sigma_n_pa < -1e3) & (stop.gap_m > 1e-6)).any()       # the rows main refused
-    g = model.geometry
-    table = system.problem.contact_surface == "table"
     compared, worst = 0, 0.0
-    for k, lam in enumerate(sol.load_factor):
-        lift = float(np.max(sol.gap[k, table], initial=0.0)) / (g.radius + g.thickness / 2)
-        step = int(sol.step[k])
-        if lift > 0.01 or (step == 2 and lam == 0.0):      # ccx's step 2 starts at its first increment
-            continue
-        r = ref[(ref.step == step) & np.isclose(ref.load_factor, lam)]
-        c = ccx[(ccx.step == step) & np.isclose(ccx.load_factor, lam)]
-        j = r.merge(c, on=["node", "surface"], suffixes=("_r", "_c"))
-        assert len(j) == len(r) == len(c)
+    for step, lam, j in small_strain_pairs(model, system, sol, ref, ccx):
+        assert len(j) == len(ref[(ref.step == step) & np.isclose(ref.load_factor, lam)])
         peak = np.abs(j.sigma_n_pa_r).max()
         err = np.abs(j.sigma_n_pa_r - j.sigma_n_pa_c).max() / peak
         worst = max(worst, err)

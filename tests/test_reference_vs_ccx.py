@@ -162,7 +162,7 @@ def test_ccx_mortar_with_a_stop_is_linear_and_matches_the_reference_lagrange(tmp
     Measured (24 x 6 x 1): table 0.063 % at lambda 0.8 (lift / R 0.0035), 0.23 % at 1; stop forces within
     0.1 % of their sum to 0.9. The NLGEOM deck it replaces was 1 % off at 0.7 and 10.8 % at 0.8."""
     from deckbridge.solve import condense_model, solve_system
-    from ccx_job import ccx_job
+    from ccx_job import ccx_job, small_strain_pairs
 
     model = load(None, SMALL + [f"contact.stop.side={side}"])
     assert not model.analysis.nlgeom
@@ -172,18 +172,9 @@ def test_ccx_mortar_with_a_stop_is_linear_and_matches_the_reference_lagrange(tmp
     mesh, system = condense_model(model)
     ref, _, sol = solve_system(model, mesh, system, "lagrange")
     ccx = read(deck.with_suffix(".frd"), fmt="calculix", model=model)
-    table = system.problem.contact_surface == "table"
-    g = model.geometry
     compared = []
-    for k, lam in enumerate(sol.load_factor):
-        lift = float(np.max(sol.gap[k, table], initial=0.0)) / (g.radius + g.thickness / 2)
-        step = int(sol.step[k])
-        if lift > 0.01 or (step == 2 and lam == 0.0):      # ccx's step 2 starts at its first increment
-            continue
-        r = ref[(ref.step == step) & np.isclose(ref.load_factor, lam)]
-        c = ccx[(ccx.step == step) & np.isclose(ccx.load_factor, lam)]
-        j = r.merge(c, on=["node", "surface"], suffixes=("_r", "_c"))
-        assert len(j) == len(r) == 3 * model.mesh.n_theta          # 48 table + 24 stop nodes
+    for step, lam, j in small_strain_pairs(model, system, sol, ref, ccx):
+        assert len(j) == 3 * model.mesh.n_theta          # 48 table + 24 stop nodes, none lost in the merge
         t = j[j.surface == "table"]
         peak = np.abs(t.sigma_n_pa_r).max()
         assert np.abs(t.sigma_n_pa_r - t.sigma_n_pa_c).max() < 0.02 * peak, lam
