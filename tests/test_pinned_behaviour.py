@@ -29,23 +29,42 @@ VARIANTS = {
                         "contact.penalty.open_ratio=1.0e-5", "loads.azimuth=30", "steps.increments=7"],
     "cone_nostop": ["name=CONE", "mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=3", "geometry.top_radius=1.2",
                     "contact.stop.side=none", "contact.penalty.k_normal=2.5e8", "steps.lambda_max=0.8"],
+    # pinned before the round-3 redesign (issue 22): pads with the default stop, friction, an imported mesh
+    "pads": ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "contact.pads={count: 4, width_deg: 30, first_deg: 45}"],
+    "friction": ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=2", "contact.friction=0.2",
+                 "contact.tangential=friction"],
+    "imported_msh": "IMPORTED",
 }
 # Reference results: small meshes, both methods, both couplings.
 SOLVES = {
     "distributing": ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1"],
     "kinematic": ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1", "load_introduction=kinematic"],
+    "pads": VARIANTS["pads"],
+    "friction": VARIANTS["friction"],
+    "imported_msh": "IMPORTED",
 }
 
 
-def deck_hashes(overrides: list[str], outdir: Path) -> dict[str, str]:
+def overrides_of(spec, folder: Path) -> list[str]:
+    """The ``--set`` list of a pin; "IMPORTED" = a 16 x 4 x 1 skirt as Gmsh's own ``.msh`` writes it (gmsh
+    pinned in the venv), imported with its physical groups BASE / TOP."""
+    if spec != "IMPORTED":
+        return list(spec)
+    from gmsh_skirt import gmsh_files
+    files = gmsh_files(folder / "gmsh")
+    return [f"mesh.file={files['msh']}", f"mesh.sets={files['sets']['msh']}"]
+
+
+def deck_hashes(spec, outdir: Path) -> dict[str, str]:
     """sha256 of every rendered deck file of the model, keyed by file name."""
-    paths = render_all(load(None, overrides), outdir)
+    paths = render_all(load(None, overrides_of(spec, outdir.parent)), outdir, on_unsupported=lambda err: None)
     return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(paths)}
 
 
-def reference_values(overrides: list[str]) -> dict:
+def reference_values(spec, folder: Path) -> dict:
     """Per method: sigma_n, gap of every row and the summary's liftoff load factor."""
     out = {}
+    overrides = overrides_of(spec, folder)
     for method in ("penalty", "lagrange"):
         df, summary = solve_model(load(None, overrides), method, recover=False)
         out[method] = {"sigma_n_pa": df["sigma_n_pa"].tolist(), "gap_m": df["gap_m"].tolist(),
@@ -61,9 +80,9 @@ def test_decks_byte_identical(variant, tmp_path):
 
 
 @pytest.mark.parametrize("case", sorted(SOLVES))
-def test_reference_results_identical(case):
+def test_reference_results_identical(case, tmp_path):
     pinned = json.loads((PINS / f"reference_{case}.json").read_text())
-    now = reference_values(SOLVES[case])
+    now = reference_values(SOLVES[case], tmp_path)
     for method in ("penalty", "lagrange"):
         a, b = now[method], pinned[method]
         assert a["node"] == b["node"] and a["status"] == b["status"]
@@ -80,4 +99,5 @@ if __name__ == "__main__" and "--write" in sys.argv:
         with tempfile.TemporaryDirectory() as d:
             (PINS / f"decks_{name}.json").write_text(json.dumps(deck_hashes(ov, Path(d) / "x"), indent=1) + "\n")
     for name, ov in SOLVES.items():
-        (PINS / f"reference_{name}.json").write_text(json.dumps(reference_values(ov)) + "\n")
+        with tempfile.TemporaryDirectory() as d:
+            (PINS / f"reference_{name}.json").write_text(json.dumps(reference_values(ov, Path(d))) + "\n")
