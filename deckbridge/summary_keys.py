@@ -23,6 +23,9 @@ class Key(str):
         obj.unit, obj.meaning = unit, meaning
         return obj
 
+    def __reduce__(self):               # pickled (a Dask worker's summary) and copied as the plain name
+        return (str, (str(self),))
+
 
 KEYS: dict[str, Key] = {}
 
