@@ -69,7 +69,7 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
     summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = \
         reference_section_onset(system, mesh, sol)
     summary[K.WALL_TIME_S] = time.perf_counter() - t0
-    wall = reference_wall(system, mesh, sol) if system.schur is not None else None
+    wall = reference_wall(system, mesh, sol) if getattr(system, "schur", True) is not None else None
     fric = None
     if model.contact.tangential == "friction":
         from .friction_table import friction_table
