@@ -17,7 +17,7 @@ import pytest
 from click.testing import CliRunner
 
 import deckbridge
-from deckbridge import ModelError
+from deckbridge import ModelError, summary_keys
 from deckbridge.cli import main
 
 OFF = {"geometry.radius": 1.0, "geometry.thickness": 0.03, "geometry.height": 1.2, "mesh.n_theta": 24,
@@ -156,6 +156,8 @@ def test_run_writes_the_job_and_matches_solve_and_compare_of_its_folders(model, 
         pd.testing.assert_frame_equal(res.solutions()[m].sigma_n_wall(1.0), solved[m].sigma_n_wall(1.0), rtol=1e-12)
     for f in ("summary.json", "reference_lagrange/summary.json", "reference_penalty/summary.json"):
         assert "-0.0" not in (tmp_path / "job" / f).read_text(), f
+        if f != "summary.json":                             # the reference summaries: one name per fact
+            assert set(json.loads((tmp_path / "job" / f).read_text())) <= set(summary_keys.KEYS), f
     comp = deckbridge.compare(tmp_path / "job" / "reference_penalty", tmp_path / "job" / "reference_lagrange",
                               model=model)
     assert comp.pairs(1.0)["max_abs_diff_pa"].iloc[0] == pytest.approx(
