@@ -24,8 +24,7 @@ from .model import Model, ModelError, load  # noqa: F401
 __version__ = "0.1.0"
 
 _API = ("default_model", "solve", "run", "compare", "sweep", "liftoff")
-# the contact-table reader of solver result files (helper nxsurf): one import line here
-# from .readers.nastran_contact import read_contact  # noqa: F401
+# read_contact (any supported result file into the tidy table) is imported here, on the line below:
 
 __all__ = ["DeckbridgeError", "Model", "ModelError", "load", *_API]
 

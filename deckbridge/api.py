@@ -133,7 +133,8 @@ def compare(*sources, model: Model | None = None, load_factors: Iterable[float] 
     records, origins = [], []
     for i, src in enumerate(sources):
         if isinstance(src, Solution):
-            origin = str(src._folder) if src._folder is not None else f"{src.method}"
+            origin = str(src._folder) if src._folder is not None else src.method
+            origin = origin if origin not in origins else f"{origin}-{i + 1}"    # two solutions of one method
             records.append(SourceResult(src.table, origin, summary=src.summary, wall=src.wall, friction=src.friction))
             model = model or src.model
         elif isinstance(src, (str, Path)):

@@ -11,6 +11,7 @@ state of the path; ``0``: the end of step 1).
 from __future__ import annotations
 
 import shutil
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -180,4 +181,6 @@ class Solution:
             raise DeckbridgeError(f"{self._folder}: this solution was read from a job's folder; it is written there")
         from .solve import write_outputs
         mesh, system, sol = self._solved
-        return write_outputs(folder, self.model, system, sol, self.table, self.summary, mesh)
+        with warnings.catch_warnings():            # the Coulomb-law warning was given once, when solved
+            warnings.filterwarnings("ignore", message="friction: ", category=UserWarning)
+            return write_outputs(folder, self.model, system, sol, self.table, self.summary, mesh)
