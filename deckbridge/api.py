@@ -55,7 +55,7 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
     """
     from .solve import condense_timed, penalty_factor, solve_system
     from .tangent_springs import follow_springs
-    from .wall_stress import reference_section_onset, reference_wall
+    from .wall_stress import reference_section_onset
 
     _check_method(method)
     if method == "lagrange" and (alpha is not None or k_factor != 1.0):
@@ -69,12 +69,11 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
     summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = \
         reference_section_onset(system, mesh, sol)
     summary[K.WALL_TIME_S] = time.perf_counter() - t0
-    wall = reference_wall(system, mesh, sol) if getattr(system, "schur", True) is not None else None
     fric = None
     if model.contact.tangential == "friction":
         from .friction_table import friction_table
         fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)
-    return Solution(model, method, df, summary, wall=wall, friction=fric, _solved=(mesh, system, sol))
+    return Solution(model, method, df, summary, friction=fric, _solved=(mesh, system, sol))
 
 
 @dataclass
@@ -133,6 +132,7 @@ def compare(*sources, model: Model | None = None, load_factors: Iterable[float] 
     records, origins = [], []
     for i, src in enumerate(sources):
         if isinstance(src, Solution):
+            src.wall_stress()                               # the base-wall quantities are compared too
             origin = str(src._folder) if src._folder is not None else src.method
             origin = origin if origin not in origins else f"{origin}-{i + 1}"    # two solutions of one method
             records.append(SourceResult(src.table, origin, summary=src.summary, wall=src.wall, friction=src.friction))

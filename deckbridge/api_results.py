@@ -64,7 +64,7 @@ class Solution:
     and contact row, table surface then radial stop); ``summary``: the solver's summary, the same dict as
     ``summary.json`` of ``deckbridge solve`` (keys defined in :mod:`deckbridge.summary_keys`); ``wall``: base-wall
     sigma_zz per state and azimuth [Pa] (``szz_inner_pa``, ``szz_outer_pa``, ``szz_mean_pa``,
-    ``szz_bending_pa``; < 0 compression) or None; ``friction``: the tangential state per row and state
+    ``szz_bending_pa``; < 0 compression), filled by :meth:`wall_stress` on first use, or None; ``friction``: the tangential state per row and state
     (:mod:`deckbridge.friction_table`) with ``contact.tangential: friction``, else None.
     """
     model: object
@@ -136,7 +136,14 @@ class Solution:
                              "penetration_m": pen, "penetration_over_t": pen / t + 0.0})
 
     def wall_stress(self, load_factor: float | None = None) -> pd.DataFrame | None:
-        """Base-wall sigma_zz per azimuth of one state [Pa] (< 0 compression), None when not recovered."""
+        """Base-wall sigma_zz per azimuth of one state [Pa] (< 0 compression; ``szz_inner_pa``, ``szz_outer_pa``,
+        ``szz_mean_pa``, ``szz_bending_pa``, base area ``area_m2``), None when it cannot be recovered. Recovered
+        on first use (one solve for every state) and kept in :attr:`wall`."""
+        if self.wall is None and self._solved is not None:
+            from .wall_stress import reference_wall
+            mesh, system, sol = self._solved
+            if getattr(system, "schur", True) is not None:        # a friction system keeps no Schur block
+                self.wall = plain_frame(reference_wall(system, mesh, sol))
         if self.wall is None or self.wall.empty:
             return None
         return pick_state(self.wall, load_factor).reset_index(drop=True)
