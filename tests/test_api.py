@@ -147,8 +147,10 @@ def test_compare_differences_are_those_of_the_two_tables(solved):
 
 
 def test_run_writes_the_job_and_matches_solve_and_compare_of_its_folders(model, solved, tmp_path):
-    res = deckbridge.run(model, out=tmp_path / "job")
+    res = deckbridge.run(model.with_overrides({"outputs.vtu": True}), out=tmp_path / "job")
     assert res.report.is_file()
+    pv = res.lagrange.to_paraview(tmp_path / "pv")            # the job's series, copied
+    assert len([p for p in pv if p.suffix == ".vtu"]) == len(res.lagrange.states)
     for m in ("penalty", "lagrange"):
         a, b = res.solutions()[m].summary, solved[m].summary
         assert a["liftoff_load_factor"] == b["liftoff_load_factor"]
