@@ -5,7 +5,7 @@ the OBC1 pressures as zeros: it never adds the records it unpacks). The deck bes
 .bdf/.dat/.nas), or the one given, is read with pyNastran for what the OP2 does not hold: the source
 faces (``BCTSET`` source regions -> ``BSURFS`` element faces), the grids' positions and the faces' shares.
 
-Rows: one per source grid (a grid of a ``BSURFS`` face of a ``BCTSET`` source region) and state; node ids
+Rows: one per source grid (a grid of a ``BSURFS`` face of a ``BCTSET`` source region), source region and state; node ids
 as in the file; step = subcase, increment = the block's order in its subcase, load_factor 0 in step 1
 and ``steps.lambda_max`` (1 without a model) in later subcases (SOL 101 subcases carry total loads).
 
@@ -60,11 +60,13 @@ _GAUSS = np.array([-1.0, 1.0]) / np.sqrt(3.0)
 
 @dataclass
 class SourceFaces:
-    """Source faces of a deck (deck units): per face its grids; per grid its position, share, normal."""
-    faces: list[tuple[int, ...]]          # grid ids of each face (3 or 4 corners)
-    xyz: dict[int, np.ndarray]            # grid -> basic position
-    share: dict[int, float]               # grid -> sum of its face shares [length^2] (NaN: quadratic element)
-    normal: dict[int, np.ndarray]         # grid -> mean unit normal of its faces
+    """Source faces of a deck (deck units), per source region: each face's grids; per (region, grid) its share
+    and mean normal; per grid its position. A grid on two source regions (a skirt corner on the table and the
+    stop) has a row in each, with the one OBC1 pressure Simcenter writes per grid."""
+    faces: list[tuple[int, tuple[int, ...]]]      # (region, grid ids of the face: 3 or 4 corners)
+    xyz: dict[int, np.ndarray]                    # grid -> basic position
+    share: dict[tuple[int, int], float]           # (region, grid) -> sum of its face shares [length^2] (NaN: quadratic)
+    normal: dict[tuple[int, int], np.ndarray]     # (region, grid) -> mean unit normal of its faces
 
 
 def _face_shares(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -111,12 +113,12 @@ def source_faces(deck: Path) -> SourceFaces:
             s, n = _face_shares(x)
             if any(v is not None for v in nids[len(corners):]):
                 s = np.full(len(grids), np.nan)        # quadratic element: shares not the corner rule
-            faces.append(grids)
+            faces.append((sid, grids))
             for g, si, xg in zip(grids, s, x):
                 xyz[g] = xg
-                share[g] = share.get(g, 0.0) + float(si)
-                normal[g] = normal.get(g, np.zeros(3)) + n
-    normal = {g: v / max(np.linalg.norm(v), 1e-300) for g, v in normal.items()}
+                share[sid, g] = share.get((sid, g), 0.0) + float(si)
+                normal[sid, g] = normal.get((sid, g), np.zeros(3)) + n
+    normal = {k: v / max(np.linalg.norm(v), 1e-300) for k, v in normal.items()}
     return SourceFaces(faces, xyz, share, normal)
 
 
@@ -156,6 +158,7 @@ def _units(path: Path, deck: Path, model: Model | None):
 
 def tidy(raw: pd.DataFrame, sf: SourceFaces, path: Path, model: Model | None, units) -> pd.DataFrame:
     """Tidy rows of the source grids from :func:`contact_tables` and the deck's source faces."""
+    keys = sorted(sf.share)                                  # (region, grid)
     grids = np.array(sorted(sf.xyz), np.int64)
     raw = raw[raw["node"].isin(grids)]
     if raw.empty:
@@ -169,26 +172,29 @@ def tidy(raw: pd.DataFrame, sf: SourceFaces, path: Path, model: Model | None, un
         sep = g["separation"].to_numpy(float)
         own = dict(zip(grids.tolist(), sep))
         face_gap = {}
-        for f in sf.faces:
+        for rid, f in sf.faces:
             m = min(own[n] for n in f)
             for n in f:
-                face_gap[n] = min(face_gap.get(n, np.inf), m)
-        law = np.array([face_gap[n] for n in grids.tolist()])
+                face_gap[rid, n] = min(face_gap.get((rid, n), np.inf), m)
+        row = np.searchsorted(grids, [n for _, n in keys])
+        p, sep = p[row], sep[row]
+        law = np.array([face_gap[k] for k in keys])
         has_sep = np.isfinite(sep).any()
         closed = (law <= 0.0) if has_sep else (np.nan_to_num(p) > 0.0)
-        x = np.array([sf.xyz[n] for n in grids.tolist()]) / units.length
-        nz = np.array([abs(sf.normal[n][2]) for n in grids.tolist()])
+        nodes = [n for _, n in keys]
+        x = np.array([sf.xyz[n] for n in nodes]) / units.length
+        nz = np.array([abs(sf.normal[k][2]) for k in keys])
         step = int(sub)
         out.append(pd.DataFrame({
             "source": DIALECTS["nastran_surface"].source, "method": "penalty", "step": step,
-            "increment": int(inc), "load_factor": 0.0 if step == 1 else lam, "node": grids,
+            "increment": int(inc), "load_factor": 0.0 if step == 1 else lam, "node": nodes,
             "surface": np.where(nz < 0.5, "stop", "table"),
             "theta_deg": azimuth_deg(x[:, 0], x[:, 1]), "z": x[:, 2], "r": np.hypot(x[:, 0], x[:, 1]),
             "sigma_n_pa": -p / units.stress + 0.0, "gap_m": sep / units.length,
             "status": np.where(closed, "closed", "open"),
             "law_gap_m": np.where(np.isfinite(law), law, np.nan) / units.length,
-            "origin": [f"{str(path)!r}: OBC1 grid {n}, subcase {sub}, increment {inc}" for n in grids.tolist()],
-            "area_m2": np.array([sf.share[n] for n in grids.tolist()]) / units.length ** 2,
+            "origin": [f"{str(path)!r}: OBC1 grid {n}, subcase {sub}, increment {inc}" for n in nodes],
+            "area_m2": np.array([sf.share[k] for k in keys]) / units.length ** 2,
         }))
     df = pd.concat(out, ignore_index=True)
     return with_forces(df.drop(columns="area_m2"), df["area_m2"].to_numpy(float))
