@@ -162,3 +162,31 @@ def test_no_deck_beside_is_one_line(tmp_path):
     with pytest.raises(DeckbridgeError, match="no deck beside"):
         read_contact(p)
     assert len(read_contact(p, deck=BDF)) == 120
+
+
+@pytest.mark.parametrize("data, what", [
+    (b"", "empty"), (b"ceci n'est pas un op2 " * 4, "not an OP2"),
+    ((4).to_bytes(4, "little") + (3).to_bytes(4, "little") + (4).to_bytes(4, "little") + (2 ** 30).to_bytes(4, "little"),
+     "truncated"),
+])
+def test_hostile_files_are_one_line_errors(tmp_path, data, what):
+    p = tmp_path / "x.op2"
+    p.write_bytes(data)
+    (tmp_path / "x.bdf").write_text("BEGIN BULK\nENDDATA\n")
+    with pytest.raises(DeckbridgeError, match=what) as e:
+        read_contact(p)
+    assert "\n" not in str(e.value)
+    with pytest.raises(DeckbridgeError):
+        read(p)                                   # detected as nothing: format not recognised
+
+
+def test_units_of_a_deckbridge_deck_beside(tmp_path):
+    """A deckbridge mm deck beside the OP2 converts lengths by 1e3 and pressures by 1e-6 (its units line)."""
+    from deckbridge.dialects import DIALECTS
+    from deckbridge.mesh import build_mesh
+    from deckbridge.model import load
+    from deckbridge.readers.nastran_contact import _units
+    model = load(None, ["mesh.n_theta=16", "mesh.n_z=3", "mesh.n_r=1", "units=mm"])
+    (deck,) = DIALECTS["nastran_surface"].write(model, build_mesh(model), tmp_path)
+    u = _units(deck.with_suffix(".op2"), deck, None)
+    assert (u.length, u.stress) == (1e3, 1e-6)
