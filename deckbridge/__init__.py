@@ -8,4 +8,4 @@ Data flow: model -> mesh -> (render decks | reference solver | external solver) 
 from .model import Model, ModelError, load  # noqa: F401
 
 __version__ = "0.1.0"
-from .readers.nastran_contact import read_contact  # noqa: F401,E402
+from .contact_results import read_contact  # noqa: F401,E402
