@@ -190,3 +190,23 @@ def test_units_of_a_deckbridge_deck_beside(tmp_path):
     (deck,) = DIALECTS["nastran_surface"].write(model, build_mesh(model), tmp_path)
     u = _units(deck.with_suffix(".op2"), deck, None)
     assert (u.length, u.stress) == (1e3, 1e-6)
+
+
+@needs_data
+def test_grid_pressure_is_the_average_of_its_face_pressures(raw, bdf):
+    """Simcenter's grid pressure = mean of the (constant) pressures of the source faces around the grid: the
+    face pressures solved from the grid values reproduce them to float32 precision, and a face is loaded
+    exactly when one of its grids has separation <= 0 (the reader's status rule)."""
+    faces = [f for f, _, _ in _region_faces(bdf, 3)]
+    grids = sorted({g for f in faces for g in f})
+    a = np.zeros((len(grids), len(faces)))
+    for j, f in enumerate(faces):
+        for g in f:
+            a[grids.index(g), j] = 1.0
+    a /= a.sum(axis=1, keepdims=True)
+    t = raw.set_index("node").loc[grids]
+    p = t["pressure"].to_numpy()
+    face_p, *_ = np.linalg.lstsq(a, p, rcond=None)
+    assert np.abs(a @ face_p - p).max() < 1e-5 * p.max()
+    touching = np.array([min(t.loc[g, "separation"] for g in f) <= 0 for f in faces])
+    assert touching.sum() == 5 and (face_p[touching] > 100).all() and np.abs(face_p[~touching]).max() < 1e-4
