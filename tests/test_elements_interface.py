@@ -261,3 +261,26 @@ def test_lumped_quad4_matrix_is_the_tributary_area():
     np.testing.assert_allclose(Ml.diagonal(), want[surf], rtol=1e-13)
     r = 3.0 * Ml.diagonal()
     np.testing.assert_allclose(project_pressure(Ml, r), -3.0, rtol=1e-13)
+
+
+def test_a_throw_away_element_plugs_in_by_the_checklist():
+    """ARCHITECTURE.md "Add an element", step 1 only: a class with its own quadrature (an 8-node hexahedron
+    on 3 x 3 x 3 points), passed as an object (registration is step 2): assembly, recovery and the face
+    matrix take it unchanged, and it passes the uniform-compression patch test."""
+    from reference_solver.element_hex8 import Hex8
+
+    class Hex8Gauss27(Hex8):
+        name, aliases = "c3d8_27", ()
+        points, weights = hex_rule(3)
+        recovery = "1 x y z xy yz xz xyz"
+
+        def extrapolation(self):
+            return super(Hex8, self).extrapolation()
+
+    el, eps = Hex8Gauss27(), -1e-3
+    nodes, cells = block_mesh("c3d8", L=L, nx=2, ny=2, nz=2, jiggle=0.25)
+    u, K = _patch(nodes, [(el, cells)], _tilt_exact(eps, 0.0), lambda x: eps + 0 * x)
+    assert _gauss_stress_error(nodes, [(el, cells)], u, eps, 0.0) <= 1e-10 * E * abs(eps)
+    r = (K @ u.ravel()).reshape(-1, 3)[:, 2]
+    surf, M = face_matrix(nodes, surface_faces([ElementBlock(el, cells)], nodes[:, 2] < 1e-12))
+    np.testing.assert_allclose(project_pressure(M, r[surf]), E * eps, atol=1e-10 * E * abs(eps))
