@@ -23,7 +23,9 @@ How a contact law uses these (the law itself lives with the contact laws, not he
 3. Lagrange: one multiplier per surface node, the pressure field lambda [Pa]; nodal forces r = M lambda;
    the sign condition is on lambda (or on the weighted gap), never on r.
 4. Report sigma_N = :func:`project_pressure` (M, r) (= -lambda for the Lagrange law), node by node.
-With ``lumped=True`` every step uses the diagonal m instead of M (a mortar law with a diagonal M).
+With ``lumped=True`` every step uses the diagonal m instead of M (a mortar law with a diagonal M). Row-sum
+lumping is for 4-node and 3-node faces only: on 8-node faces its corner entries are negative (-1/12 of A)
+and on 6-node faces zero, so a diagonal law there needs the consistent M (or a dual basis), never m.
 """
 
 from __future__ import annotations
