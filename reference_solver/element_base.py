@@ -9,7 +9,9 @@ An element type (one instance per type, registered in :mod:`reference_solver.ele
   mid-side nodes) and ``face_types`` (one :class:`element_faces.FaceType` per face);
 - stress recovery: ``recovery`` (monomials fitted by least squares to the Gauss values) giving
   :meth:`extrapolation` (n, ng), Gauss values -> node values (exact for fields in that space);
-- ``bending``: False where the element fails the bending patch test (the 4-node tetrahedron).
+- ``bending``: False where the element fails the bending patch test (the 4-node tetrahedron);
+  ``hourglass``: True where reduced integration allows zero-energy modes (Hex20R), with
+  ``opposite_faces`` the pairs of opposite faces (:mod:`reference_solver.hourglass`).
 Computations (``xyz`` (ne, n, 3) node coordinates [m], E [Pa], nu): :meth:`stiffness_pairs`
 (ne, 3, 3, n, n) [N/m], :meth:`gauss_strain_operator` (ne, ng, 6, 3n), :meth:`volume_weights`
 (ne, ng) w det J [m^3], :meth:`centre_strain_operator` (ne, 6, 3n).
@@ -38,6 +40,8 @@ class Element:
     face_types: tuple = ()
     recovery: str = "1"
     bending: bool = True
+    hourglass: bool = False
+    opposite_faces: tuple = ()
     basis: NodalBasis | None = None
 
     @property
@@ -50,9 +54,7 @@ class Element:
 
     @property
     def centre(self) -> np.ndarray:
-        return self.nodes.mean(axis=0) if self.nodes.shape[0] in (8, 20) else self._centroid()
-
-    def _centroid(self) -> np.ndarray:
+        """Natural coordinates of the reference shape's centroid (the quadrature's mean point)."""
         return (self.weights @ self.points) / self.weights.sum()
 
     def __repr__(self) -> str:

@@ -49,7 +49,9 @@ class Hex8(Element):
     name, aliases, meshio_type = "c3d8", ("hex8",), "hexahedron"
     nodes, points, weights = CORNERS, GAUSS, np.ones(8)
     faces, face_types = HEX_FACES, (QUAD4,) * 6
+    opposite_faces = ((0, 1), (2, 4), (3, 5))    # zeta, eta, xi
     recovery = "1 x y z xy yz xz xyz"
+    centre = np.zeros(3)
 
     def shape(self, xi) -> np.ndarray:
         return np.stack([shape_values(x) for x in np.atleast_2d(xi)])

@@ -47,7 +47,9 @@ class Hex20(Element):
     faces = ((0, 1, 2, 3, 8, 9, 10, 11), (4, 7, 6, 5, 15, 14, 13, 12), (0, 4, 5, 1, 16, 12, 17, 8),
              (1, 5, 6, 2, 17, 13, 18, 9), (2, 6, 7, 3, 18, 14, 19, 10), (3, 7, 4, 0, 19, 15, 16, 11))
     face_types = (QUAD8,) * 6
+    opposite_faces = ((0, 1), (2, 4), (3, 5))    # zeta, eta, xi
     recovery = " ".join(f"x{a}y{b}z{c}" for a in range(3) for b in range(3) for c in range(3))
+    centre = np.zeros(3)
 
 
 class Hex20R(Hex20):
@@ -55,6 +57,7 @@ class Hex20R(Hex20):
     one-element rows (count them with the stiffness's null space)."""
     name, aliases = "c3d20r", ("hex20r",)
     points, weights = hex_rule(2)
+    hourglass = True              # :func:`reference_solver.hourglass.hourglass_elements` finds the elements at risk
     recovery = "1 x y z xy yz xz xyz"
 
 

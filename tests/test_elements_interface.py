@@ -19,6 +19,7 @@ from reference_solver.assembly import assemble_element_blocks
 from reference_solver.element_faces import FACE_TYPES, QUAD4, QUAD8, TRI3, TRI6
 from reference_solver.elements import ELEMENT_TYPES, element_type
 from reference_solver.errors import ReferenceSolverError
+from reference_solver.hourglass import hourglass_elements
 from reference_solver.face_weights import face_matrix, face_shares, project_pressure, surface_faces
 from reference_solver.kinematics import elasticity_matrix
 from reference_solver.problem import ElementBlock, Problem
@@ -196,14 +197,18 @@ def _zero_modes(name, **kw):
 
 
 @pytest.mark.parametrize("kw, n_r20", [(dict(nx=1, ny=1, nz=1), 12), (dict(nx=3, ny=1, nz=1), 10),
-                                       (dict(nx=1, ny=1, nz=3), 10), (dict(nx=3, ny=3, nz=1), 6),
-                                       (dict(nx=2, ny=2, nz=2), 6)])
-def test_hex20r_zero_energy_modes(kw, n_r20):
+                                       (dict(nx=1, ny=1, nz=3), 10), (dict(nx=2, ny=1, nz=1), 9),
+                                       (dict(nx=3, ny=3, nz=1), 6), (dict(nx=3, ny=1, nz=3), 6),
+                                       (dict(nx=2, ny=1, nz=2), 6), (dict(nx=2, ny=2, nz=2), 6)])
+def test_hex20r_zero_energy_modes_and_the_mesh_check(kw, n_r20):
     """Free stiffness (eigenvalues < 1e-9 of the largest): 6 rigid-body modes for Hex20 on any mesh;
-    Hex20R has 6 hourglass modes in one element and 4 in a one-element row (1 x 1 x 3), none in a
-    one-element layer (3 x 3 x 1) or a 2 x 2 x 2 block."""
+    Hex20R has 6 hourglass modes in one element and 3-4 in one-element rows, none in a one-element layer
+    or wall or a 2 x 2 x 2 block; :func:`hourglass.hourglass_elements` flags exactly the meshes with more."""
     assert _zero_modes("c3d20", **kw) == 6
     assert _zero_modes("c3d20r", **kw) == n_r20
+    nodes, cells = block_mesh("c3d20r", **kw)
+    assert (hourglass_elements([ElementBlock("c3d20r", cells)]).size > 0) == (n_r20 > 6)
+    assert hourglass_elements([ElementBlock("c3d20", cells)]).size == 0
 
 
 def test_unknown_element_is_the_solver_error():
