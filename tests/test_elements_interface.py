@@ -14,7 +14,7 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from element_meshes import block_mesh, grid, mixed_mesh
-from reference_solver import recover
+from reference_solver import fields, recover
 from reference_solver.assembly import assemble_element_blocks
 from reference_solver.element_faces import FACE_TYPES, QUAD4, QUAD8, TRI3, TRI6
 from reference_solver.elements import ELEMENT_TYPES, element_type
@@ -187,6 +187,11 @@ def test_mixed_hex20_wedge15_mesh_patch_tests(a, b):
     want[:, 2] = E * (a + b * nodes[:, 0])
     assert np.abs(st["nodal"] - want).max() <= 1e-10 * E * abs(a)
     assert st["cell"].shape == (p.n_elements, 6)
+    centres = np.concatenate([np.einsum("a,eak->ek", element_type(n).shape(element_type(n).centre[None])[0],
+                                        nodes[c]) for n, c in blocks])
+    want_c = np.zeros((p.n_elements, 6))
+    want_c[:, 2] = E * (a + b * centres[:, 0])
+    assert np.abs(fields.element_stress(p, u) - want_c).max() <= 1e-10 * E * abs(a)
 
 
 def _zero_modes(name, **kw):
