@@ -11,7 +11,8 @@ The public Python API (documented, stable; see :mod:`deckbridge.api`)::
     lag = deckbridge.solve(model, method="lagrange")
     lag.sigma_n_wall(1.0)        # sigma_N(theta) through the wall at lambda = 1 [Pa], < 0 compression
 
-``default_model``, ``load``, ``Model.with_overrides``, ``solve``, ``run``, ``compare``, ``sweep``, ``liftoff``;
+``default_model``, ``load``, ``Model.with_overrides``, ``solve``, ``run``, ``compare``, ``sweep``, ``liftoff``,
+``read_contact`` (a Nastran surface-contact OP2 into the tidy table);
 results in :mod:`deckbridge.api_results` and :mod:`deckbridge.api_studies`; summary keys in
 :mod:`deckbridge.summary_keys`. The solver and pandas are imported on first use of the API, not here.
 """
@@ -24,9 +25,9 @@ from .model import Model, ModelError, load  # noqa: F401
 __version__ = "0.1.0"
 
 _API = ("default_model", "solve", "run", "compare", "sweep", "liftoff")
-# read_contact (any supported result file into the tidy table) is imported here, on the line below:
+from .contact_results import read_contact  # noqa: F401,E402  (a light module: the reader loads on first call)
 
-__all__ = ["DeckbridgeError", "Model", "ModelError", "load", *_API]
+__all__ = ["DeckbridgeError", "Model", "ModelError", "load", "read_contact", *_API]
 
 
 def __getattr__(name: str):
