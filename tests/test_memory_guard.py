@@ -70,3 +70,13 @@ def test_refused_above_the_memory_with_one_line_naming_the_keys(monkeypatch):
     assert f"{limits.dofs(16, 4, 1):,} dofs need about {sym / 1e9:.3g} GB (from its symbolic factorisation)" in text
     assert "--allow-large" in text
     assert limits.check_memory(m, allow_large=True) > 0              # --allow-large passes it
+
+
+def test_gram_lower_is_exactly_symmetric_and_equals_l_lt():
+    from reference_solver.linalg import gram_lower
+    rng = np.random.default_rng(22)
+    for m, block in ((0, 4), (1, 4), (9, 4), (64, 64), (130, 32)):
+        L = np.tril(rng.normal(size=(m, m)))
+        C = gram_lower(L, block=block)
+        assert np.array_equal(C, C.T)
+        np.testing.assert_allclose(C, L @ L.T, rtol=1e-13, atol=1e-12 * max(1, m))
