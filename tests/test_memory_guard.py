@@ -35,8 +35,9 @@ def test_symbolic_estimate_counts_the_mesh_and_its_factor():
     # the factor holds at least the lower triangle of K's pattern (81 entries per dof row, halved) and at
     # most the dense triangle
     assert 0.5 * 27 * e.dofs <= e.factor_entries <= e.dofs * (e.dofs + 1) / 2
-    assert e.bytes == max(e.parts.values()) and set(e.parts) == {"load_path", "vtu"}
-    assert limits.symbolic_estimate(load(None, SMALL + ["outputs.vtu=false"])).parts.keys() == {"load_path"}
+    assert e.bytes == pytest.approx(limits.ESTIMATE_MARGIN * max(e.parts.values()))
+    assert set(e.parts) == {"split", "load_path", "vtu"}
+    assert limits.symbolic_estimate(load(None, SMALL + ["outputs.vtu=false"])).parts.keys() == {"split", "load_path"}
     assert limits.quick_estimate(m) >= e.bytes                       # the quick bound is above it
 
 
