@@ -294,6 +294,7 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     if half:
         Z0 = np.asarray(f.solve_L(B, use_LDLt_decomposition=False)).reshape(n, -1)
         Y = sla.solve_triangular(Lrr, Z0[ni:], lower=True, trans="T", check_finite=False)
+        del Lrr                                    # not held through the path: re-read from the factor when recovering
     else:
         Y = solve_aug(B)[ni:].reshape(nr, -1)                        # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
     fhat = F[r] + SD_times(Y)
@@ -305,7 +306,7 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
         u = np.empty(shape)
         if half:
             z = Z0 @ coeffs
-            z[ni:] += sla.solve_triangular(Lrr, v, lower=True, check_finite=False)
+            z[ni:] += sla.solve_triangular(trailing_block(f, n, nr), v, lower=True, check_finite=False)
             u[perm] = np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
             return u
         b = np.empty(shape)
