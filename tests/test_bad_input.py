@@ -459,7 +459,7 @@ def ccx_job(tmp_path_factory):
     import shutil
     if shutil.which("ccx") is None:
         pytest.skip("ccx not installed")
-    from deckbridge.external import ccx_run
+    from deckbridge.dialects.calculix import runner as ccx_run
     from deckbridge.render import render_all
     model = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "steps.increments=4"])
     folder = tmp_path_factory.mktemp("ccx13")

@@ -8,12 +8,12 @@ import pandas as pd
 import pytest
 
 from deckbridge.errors import DeckbridgeError
-from deckbridge.external.ccx_run import run
+from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.readers import calculix as reader
+from deckbridge.dialects.calculix import reader as reader
 from deckbridge.readers import read as read_any
-from deckbridge.render import calculix
+from deckbridge.dialects.calculix import render as calculix
 from deckbridge.results import conform
 
 SMALL = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1"]

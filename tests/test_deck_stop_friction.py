@@ -17,7 +17,9 @@ from deckbridge.cli import main
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers.inp_mesh import contact_friction
-from deckbridge.render import abaqus, calculix, nastran
+from deckbridge.dialects.abaqus import render as abaqus
+from deckbridge.dialects.calculix import render as calculix
+from deckbridge.dialects.nastran import render as nastran
 
 MU = 0.2
 SMALL = ["mesh.n_theta=12", "mesh.n_z=3", "mesh.n_r=1", f"contact.friction={MU}"]

@@ -10,12 +10,12 @@ import pytest
 
 from deckbridge.dialects import DIALECTS
 from deckbridge.errors import DeckUnsupported
-from deckbridge.external.ccx_run import run
+from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.numbering.inp import ccx_n2f_groups, ccx_node_slave_areas
-from deckbridge.readers import calculix as reader
-from deckbridge.readers.ccx_el_stress import read_base_wall
+from deckbridge.dialects.calculix import reader as reader
+from deckbridge.dialects.calculix.el_stress import read_base_wall
 from deckbridge.render import render_all
 
 needs_ccx = pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")

@@ -30,7 +30,6 @@ import pandas as pd
 
 from ..errors import DeckbridgeError
 from ..results import REQUIRED as COLUMNS
-from ._registry import register
 from ..results import with_forces
 from ._checks import checked
 from ._nodemap import locate, slave_areas, surface_of
@@ -132,7 +131,6 @@ def _data_lines(path: Path, n: int) -> list[str]:
     return [f"data row {k}" for k in range(1, n + 1)]
 
 
-@register("plain_csv", detect=detect)
 @checked("never")
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read a post-processor CSV export into the tidy table (sign and unit from the header)."""

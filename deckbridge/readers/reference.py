@@ -23,9 +23,11 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
+from .. import friction_table as FT
+from .. import wall_stress as WS
 from ..results import REQUIRED as COLUMNS, ResultsError, SourceResult, conform
-from ._registry import register
 from ._checks import checked
+from ._files import beside
 from ._nodemap import locate
 
 THETA_TOL_DEG = 1e-3
@@ -53,7 +55,6 @@ def detect(path: Path) -> bool:
     return set(COLUMNS) <= set(_header(path))
 
 
-@register("reference", detect=detect)
 @checked(None)
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read contact.csv of a reference output folder (or the csv itself) into the tidy table."""
@@ -113,11 +114,32 @@ def read_source(path, model=None) -> SourceResult:
             summary = json.loads((folder / "summary.json").read_text())
         except (OSError, ValueError, RecursionError):
             summary = None
-    from ..friction_table import read_friction
-    from ..wall_stress import read_wall
     return SourceResult(table, str(path), summary=summary if isinstance(summary, dict) else None,
                         wall=read_wall(folder), friction=read_friction(folder),
                         **read_globals(path, table["method"].unique()))
+
+
+def read_wall(folder) -> pd.DataFrame | None:
+    """wall_stress.csv (:mod:`deckbridge.wall_stress`) of a reference folder, None when absent."""
+    p = beside(folder, WS.WALL_CSV)
+    if p is None:
+        return None
+    df = pd.read_csv(p)
+    return df if set(WS.WALL_COLUMNS) <= set(df.columns) else None
+
+
+def read_friction(folder) -> pd.DataFrame | None:
+    """friction.csv of a reference folder (or beside a contact.csv), None when absent or not one."""
+    p = beside(folder, FT.FRICTION_CSV)
+    if p is None:
+        return None
+    try:
+        df = pd.read_csv(p)
+    except (OSError, ValueError, pd.errors.ParserError):
+        return None
+    if not set(FT.COLUMNS) <= set(df.columns) or not df["stick_status"].isin(FT.STATUSES).all():
+        return None
+    return df[FT.COLUMNS]
 
 
 def read_globals(origin, methods) -> dict:
@@ -236,15 +258,29 @@ def global_metrics(origin, method: str | None = None, vtu_fields=_UNREAD) -> dic
         if out:
             used.append("summary.json")
     if "max_von_mises_pa" not in out or "max_displacement_m" not in out:
-        f = fields(folder) if vtu_fields is _UNREAD else vtu_fields
-        extra = {}
-        if f is not None and f["vm"] is not None and "max_von_mises_pa" not in out:
-            extra["max_von_mises_pa"] = float(np.nanmax(np.abs(f["vm"])))
-        if f is not None and f["u"] is not None and "max_displacement_m" not in out:
-            extra["max_displacement_m"] = float(np.nanmax(np.linalg.norm(f["u"], axis=1)))
+        extra = field_maxima(fields(folder) if vtu_fields is _UNREAD else vtu_fields)
+        extra = {k: v for k, v in extra.items() if k not in out}
         if extra:
             out.update(extra)
             used.append("result.vtu")
     if out:
         out["from"] = " + ".join(used)
     return out
+
+
+def field_maxima(f: dict | None) -> dict:
+    """{'max_von_mises_pa', 'max_displacement_m'} of :func:`fields` (each when the field is there)."""
+    out = {}
+    if f is not None and f["vm"] is not None:
+        out["max_von_mises_pa"] = float(np.nanmax(np.abs(f["vm"])))
+    if f is not None and f["u"] is not None:
+        out["max_displacement_m"] = float(np.nanmax(np.linalg.norm(f["u"], axis=1)))
+    return out
+
+
+def solution_globals(result_vtu_mesh, method: str) -> dict:
+    """{'globals': {method: figures}, 'fields': fields} of a solution in memory: the meshio mesh that is its
+    result.vtu (:func:`deckbridge.solve.result_mesh`; None without fields), the job's own outputs not read back."""
+    f = None if result_vtu_mesh is None else fields_of_mesh(result_vtu_mesh)
+    g = field_maxima(f)
+    return {"globals": {method: {**g, "from": "result.vtu"} if g else {}}, "fields": f}

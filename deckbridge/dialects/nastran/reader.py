@@ -38,16 +38,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..dialects import DIALECTS
-from ..errors import DeckbridgeError
-from ..azimuth import azimuth_deg
-from ..mesh import build_mesh
-from ..model import Model
-from ..numbering.nastran import gap_layout
-from ..units import Units, scale
-from ..results import with_forces
-from ._checks import checked
-from ._registry import register
+from . import RECORD
+from ...errors import DeckbridgeError
+from ...azimuth import azimuth_deg
+from ...mesh import build_mesh
+from ...model import Model
+from ...numbering.nastran import gap_layout
+from ...units import Units, scale
+from ...results import with_forces
+from ...readers._checks import checked
 
 _UNITS_LINE = re.compile(r"^\$\s*deckbridge-units:\s*(SI|mm)\s*$")
 
@@ -278,11 +277,10 @@ def tidy(raw: pd.DataFrame, cmap: pd.DataFrame, path: Path, source: str, method:
     }), m["area"].to_numpy(float))
 
 
-def _detect(path: Path) -> bool:
+def detect(path: Path) -> bool:
     return path.is_file() and path.suffix.lower() == ".op2"
 
 
-@register("nastran_op2", detect=_detect)
 @checked(None)
 def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     """Tidy table of the gap results in a Nastran OP2 (force table preferred, else OESNLXR)."""
@@ -292,4 +290,4 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
     raw = raw[raw["table"] == ("OEF1X" if "OEF1X" in tables else "OESNLXR")]
     cmap = contact_map(path, model)
     lam = model.steps.lambda_max if model is not None else 1.0
-    return tidy(raw, cmap, path, DIALECTS["nastran"].source, "penalty", lam)
+    return tidy(raw, cmap, path, RECORD.source, "penalty", lam)

@@ -30,14 +30,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..dialects import DIALECTS
-from ..errors import DeckbridgeError
-from ._files import inp_deck_units, read_text
-from ._registry import register
-from ..results import with_forces
-from ..units import scale
-from ._checks import checked
-from ._nodemap import locate, slave_areas, surface_of
+from . import RECORD
+from ...errors import DeckbridgeError
+from ...readers._files import inp_deck_units, read_text
+from ...results import with_forces
+from ...units import scale
+from ...readers._checks import checked
+from ...readers._nodemap import locate, slave_areas, surface_of
 
 _NUM = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[EeDd][-+]?\d+)?"
 _NUM_RE = re.compile(rf"^{_NUM}$")
@@ -153,11 +152,10 @@ def _surface(raw: pd.DataFrame, located: pd.DataFrame) -> np.ndarray:
     return np.where(hint == "", by_model, hint)
 
 
-@register("abaqus_dat", detect=detect)
 @checked(None)
 def read(path: Path, model=None) -> pd.DataFrame:
     """Read the contact print tables of an Abaqus .dat file into the tidy table."""
-    from ..model import load
+    from ...model import load
 
     path = Path(path)
     raw = parse(read_text(path), path)
@@ -177,7 +175,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
     lam = np.where(raw["step"].to_numpy() == 1, 0.0, model.steps.lambda_max * raw["fraction"].to_numpy(float))
     surface = _surface(raw, located)
     return with_forces(pd.DataFrame({
-        "source": DIALECTS["abaqus"].source, "method": "lagrange",
+        "source": RECORD.source, "method": "lagrange",
         "step": raw["step"].to_numpy(), "increment": raw["increment"].to_numpy(),
         "load_factor": lam, "node": raw["node"].to_numpy(),
         "surface": surface,
