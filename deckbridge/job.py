@@ -41,8 +41,12 @@ from .solve import condense_model, result_mesh, solve_system, write_outputs
 from .wall_stress import reference_section_onset, reference_wall, write_wall
 
 Echo = Callable[[str], None]
-LAYOUT = ("decks", "reference_penalty", "reference_lagrange", *sorted({d.folder for d in DIALECTS.values() if d.runner}),
-          "report.html", "sigma_n.png", "discrepancy.csv", "summary.json")   # what a job writes into DIR (set aside by a re-run)
+
+
+def layout() -> tuple[str, ...]:
+    """What a job writes into DIR (set aside by a re-run): every runnable dialect's run folder included."""
+    return ("decks", "reference_penalty", "reference_lagrange", *sorted({d.folder for d in DIALECTS.values() if d.runner}),
+            "report.html", "sigma_n.png", "discrepancy.csv", "summary.json")
 
 
 def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo = print,
@@ -59,7 +63,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
                               f"(runnable: {', '.join(n for n, d in sorted(DIALECTS.items()) if d.runner)})")
     for d in chosen:
         d.check_run(model)
-    with replacing(outdir, "run", LAYOUT) as out:
+    with replacing(outdir, "run", layout()) as out:
         return _job(model, out, chosen, echo, ccx_timeout_s)
 
 

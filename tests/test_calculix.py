@@ -275,7 +275,7 @@ def test_hard_mortar_matches_its_stiff_linear_regularisation(small_job, tmp_path
 def test_numbering_layer_gives_the_gap_ids_written_in_the_decks(overrides, tmp_path):
     """The reader's ids without a deck (numbering layer) are those of the GAPUNI lines the renderer wrote
     (GAPUNI penalty gaps: the NLGEOM deck)."""
-    from deckbridge.numbering.inp import ccx_ground_node_ids
+    from deckbridge.dialects.calculix.numbering import ccx_ground_node_ids
     model = load(None, overrides + ["analysis.nlgeom=true"])
     mesh = build_mesh(model)
     for method, path in zip(("penalty", "mortar"), calculix.write(model, mesh, tmp_path)):

@@ -13,7 +13,7 @@ from deckbridge.errors import DeckUnsupported
 from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.numbering.inp import ccx_n2f_groups, ccx_node_slave_areas
+from deckbridge.dialects.calculix.numbering import ccx_n2f_groups, ccx_node_slave_areas
 from deckbridge.dialects.calculix import reader as reader
 from deckbridge.dialects.calculix.el_stress import read_base_wall
 from deckbridge.render import render_all

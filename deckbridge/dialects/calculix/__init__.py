@@ -1,7 +1,7 @@
 """CalculiX 2.20: penalty and mortar decks (``render.py``), the ``.frd``/``.dat`` reader (``reader.py``,
 files parsed in ``result_files.py``), the ``*EL PRINT`` base-wall stress (``el_stress.py``), the ccx runner
-(``runner.py``) and the ParaView series of a run (``paraview.py``); inp-family ids from
-:mod:`deckbridge.numbering.inp`."""
+(``runner.py``) and the ParaView series of a run (``paraview.py``); its own ids (``numbering.py``) beyond
+the inp family's (:mod:`deckbridge.numbering.inp`)."""
 
 from .._record import Dialect
 

@@ -37,7 +37,7 @@ import pandas as pd
 from . import RECORD
 from ...errors import DeckbridgeError
 from ...mesh import build_mesh
-from ...numbering.inp import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
+from .numbering import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...numbering.skirt import mesh_node_index
 from ...units import scale
 from .result_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401

@@ -2,7 +2,7 @@
 
 Penalty, ``analysis.nlgeom: false`` (default, the reference solver's small-strain analysis): node-to-surface
 contact with ``PRESSURE-OVERCLOSURE=LINEAR``, node-based slave surfaces grouped by equal k_c / A_ccx
-(:func:`deckbridge.numbering.inp.ccx_n2f_groups`), masters the faces of fixed C3D8 rings (table, stop). ccx
+(:func:`.numbering.ccx_n2f_groups`), masters the faces of fixed C3D8 rings (table, stop). ccx
 gives a node of a node-based slave surface the area A_ccx (a quarter of every free face of the skirt at the
 node, measured) and the force K A_ccx d, so the slope K = k_c / A_ccx reproduces the model's k_c per node.
 Penalty, ``nlgeom: true``: one GAPUNI element per slave node, from the skirt node to a grounded node at the
@@ -40,8 +40,8 @@ from . import RECORD
 from ...errors import DeckUnsupported
 from ...mesh import SkirtMesh
 from ...model import Model
-from ...numbering.inp import (GapIds, Layout, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas,
-                             ccx_penalty_is_n2f)
+from ...numbering.inp import Layout
+from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...units import scale
 from ...numbering.skirt import mesh_node_ids, mesh_node_index
 from ...render._env import deck_paths, render
