@@ -18,7 +18,7 @@ import numpy as np
 from deckbridge.readers.reference import read_friction
 from deckbridge.quantities import PENETRATION_FLOOR, PENETRATION_WARN, RESIDUAL_WARN, TENSION_WARN
 from deckbridge.readers import read
-from deckbridge.readers.inp_mesh import read_inp_mesh
+from deckbridge.importers.inp_mesh import read_inp_mesh
 from deckbridge.report.caveats import SMALL_STRAIN
 
 from scenarios import Run, table_state

@@ -104,7 +104,7 @@ def test_friction_is_refused_by_calculix_before_writing_and_rendered_by_abaqus(t
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
     deck = render_all(model, tmp_path / "abq", ["abaqus"])[0]
     assert deck.read_text().count("*FRICTION, LAGRANGE") == 1            # the table's; the stop is frictionless
-    from deckbridge.readers.inp_mesh import contact_friction
+    from deckbridge.importers.inp_mesh import contact_friction
     assert sorted(mu for _, _, mu in contact_friction(deck)) == [0.0, 0.2]
 
 

@@ -6,7 +6,7 @@ a format's module holds ``read(path, model=None)`` and ``detect(path)``. :func:`
 takes ``fmt``) and conforms the table to the schema; :func:`read_result` adds what a source carries beside
 its table. Readers raise :class:`deckbridge.errors.DeckbridgeError` with a one-line message naming the file
 when it cannot be read. This package also holds what readers share (``_checks``, ``_contact_law``,
-``_files``, ``_nodemap``) and the ``.inp`` mesh parser (``inp_mesh``, also used by the importers).
+``_files``, ``_nodemap``).
 """
 
 from __future__ import annotations
