@@ -59,7 +59,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     no_runner = [d.name for d in chosen if not d.runner]
     if no_runner:
         from .errors import DeckbridgeError
-        raise DeckbridgeError(f"solvers = {no_runner[0]}: deckbridge runs no solver for this dialect "
+        raise DeckbridgeError(f"`solvers` = {no_runner[0]!r}: deckbridge runs no solver for this dialect "
                               f"(runnable: {', '.join(n for n, d in sorted(DIALECTS.items()) if d.runner)})")
     for d in chosen:
         d.check_run(model)

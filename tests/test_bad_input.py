@@ -285,7 +285,7 @@ def test_scheduler_that_is_not_dask_ends_in_one_line_in_time(reply):
         for c in conns:
             c.close()
     assert time.perf_counter() - t0 < 20
-    assert res.returncode == 0 and res.stdout.startswith("--scheduler = 'tcp://127.0.0.1:"), (res.stdout, res.stderr)
+    assert res.returncode == 0 and res.stdout.startswith("`scheduler` = 'tcp://127.0.0.1:"), (res.stdout, res.stderr)
     assert "Traceback" not in res.stderr, res.stderr
 
 

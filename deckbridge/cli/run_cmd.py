@@ -3,7 +3,7 @@
 import click
 
 from ..dialects import runnable
-from ._common import main, model_options
+from ._common import as_flags, main, model_options
 
 
 @main.command("run")
@@ -20,4 +20,4 @@ def run_cmd(model, outdir, solvers, with_ccx):
     from ..solve import penalty_factor
 
     penalty_factor(model)                    # the model's own penalty in range, before any work
-    run_job(model, outdir, with_ccx=with_ccx, solvers=solvers, echo=click.echo)
+    run_job(model, outdir, with_ccx=with_ccx, solvers=solvers, echo=lambda line: click.echo(as_flags(line)))

@@ -137,11 +137,11 @@ def check_supported(model: Model) -> None:
     if mu > 0 and getattr(model.contact, "tangential", "springs") != "friction":
         raise DeckUnsupported("calculix", f"contact.friction = {mu:g} with contact.tangential = springs: the CalculiX "
                               "penalty deck writes *FRICTION only when friction carries the shear (tangential = "
-                              "friction); set friction to 0, or leave out the calculix dialect (--dialect)")
+                              "friction); set friction to 0, or leave out the calculix dialect (`dialects`)")
     if mu > 0 and not ccx_penalty_is_n2f(model):
         raise DeckUnsupported("calculix", f"contact.friction = {mu:g} with analysis.nlgeom = true: the CalculiX "
                               "penalty deck is then GAPUNI gaps, which have no friction; set nlgeom to false "
-                              "(node-to-surface contact with *FRICTION), or leave out the calculix dialect (--dialect)")
+                              "(node-to-surface contact with *FRICTION), or leave out the calculix dialect (`dialects`)")
 
 
 def _stick_slopes(mesh: SkirtMesh, group, a_ccx: np.ndarray, rel: float = 1e-6) -> float:

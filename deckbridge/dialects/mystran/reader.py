@@ -78,19 +78,21 @@ def detect(path: Path) -> bool:
 
 
 @checked(None, unknown_load_factor=True)
-def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
-    """Tidy table of the contact springs of a MYSTRAN linear run."""
+def read(path: str | Path, model: Model | None = None, mesh=None) -> pd.DataFrame:
+    """Tidy table of the contact springs of a MYSTRAN linear run; ``mesh``: the model's, when built."""
     path = Path(path)
     raw = read_spring_forces(path)
     raw["force_n"] = raw["force_n"] / result_units(path, model).force
-    cmap = contact_map(path, model)
+    if model is not None and mesh is None:
+        mesh = build_mesh(model)
+    cmap = contact_map(path, model, mesh)
     raw = raw[raw["element"].isin(cmap.index)]
     if raw.empty:
         raise DeckbridgeError(f"{str(path)!r}: no contact spring forces (element ids of another model?)")
     m = cmap.loc[raw["element"].to_numpy()]
     force_on_normal = m["dof_sign"].to_numpy() * raw["force_n"].to_numpy()   # > 0 pushes the skirt off the master
     if model is not None:
-        lay = gap_layout(build_mesh(model))
+        lay = gap_layout(mesh)
         k = pd.Series(lay.k, index=lay.eid).loc[raw["element"].to_numpy()].to_numpy()
         gap = -force_on_normal / k
         lam = model.steps.lambda_max
