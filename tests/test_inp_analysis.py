@@ -8,7 +8,6 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from deckbridge.dialects import DIALECTS
 from deckbridge.errors import DeckUnsupported
 from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh

@@ -43,13 +43,18 @@ class Format:
 
     def read(self, path: Path, model=None, mesh=None):
         """The format's table of ``path``; ``mesh`` (the model's, when built) goes to readers that take it."""
-        fn = attr(f"{self.module}:read", self.package)
+        return self._call("read", path, model, mesh)
+
+    def read_source(self, path: Path, model=None, mesh=None):
+        """The source's SourceResult (``source_reader``, given ``mesh`` as :meth:`read`); None when the format has none."""
+        if not self.source_reader:
+            return None
+        return self._call(self.source_reader, path, model, mesh)
+
+    def _call(self, name: str, path: Path, model, mesh):
+        fn = attr(f"{self.module}:{name}", self.package)
         takes_mesh = mesh is not None and "mesh" in inspect.signature(fn).parameters
         return fn(path, model=model, **({"mesh": mesh} if takes_mesh else {}))
-
-    def read_source(self, path: Path, model=None):
-        """The source's SourceResult (``source_reader``); None when the format has none."""
-        return attr(f"{self.module}:{self.source_reader}", self.package)(path, model=model) if self.source_reader else None
 
     def detect(self, path: Path) -> bool:
         return bool(attr(f"{self.module}:detect", self.package)(path))

@@ -53,7 +53,7 @@ def read_result(path: str | Path, fmt: str | None = None, model=None, mesh=None)
     friction, global figures, :func:`.reference.read_source`; a dialect with a ``wall_reader``: its base-wall table when ``model`` is
     known), else the bare table."""
     name = fmt or detect(path)
-    whole = _formats()[name].read_source(Path(path), model=model) if name in _formats() else None
+    whole = _formats()[name].read_source(Path(path), model=model, mesh=mesh) if name in _formats() else None
     if whole is not None:
         return whole
     table = read(path, fmt=name, model=model, mesh=mesh)

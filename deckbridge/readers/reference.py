@@ -56,8 +56,9 @@ def detect(path: Path) -> bool:
 
 
 @checked(None)
-def read(path: Path, model=None) -> pd.DataFrame:
-    """Read contact.csv of a reference output folder (or the csv itself) into the tidy table."""
+def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
+    """Read contact.csv of a reference output folder (or the csv itself) into the tidy table (``mesh``:
+    ``model``'s, when built)."""
     src = contact_csv(Path(path))
     if not src.is_file():
         raise DeckbridgeError(f"{str(src)!r}: no such file (a reference output folder holds contact.csv)")
@@ -77,14 +78,14 @@ def read(path: Path, model=None) -> pd.DataFrame:
     if not np.isfinite(out["sigma_n_pa"].to_numpy()).all():
         raise DeckbridgeError(f"{str(src)!r}: sigma_n_pa holds non-finite values")
     if model is not None:
-        check_against_model(out, model, src)
+        check_against_model(out, model, src, mesh)
     return out.assign(origin=[f"{str(src)!r}: line {i + 2}" for i in range(len(out))])   # for the contact-law check
 
 
-def check_against_model(df: pd.DataFrame, model, path) -> None:
+def check_against_model(df: pd.DataFrame, model, path, mesh=None) -> None:
     """Raise naming ``path`` unless every node is a slave node of ``model`` at the azimuth of the table."""
     nodes = df["node"].to_numpy()
-    rows = locate(nodes, model, path)
+    rows = locate(nodes, model, path, mesh=mesh)
     d = np.abs(rows["theta_deg"].to_numpy() - df["theta_deg"].to_numpy())
     d = np.minimum(d, 360.0 - d)
     if (d > THETA_TOL_DEG).any():
@@ -102,11 +103,11 @@ def check_against_model(df: pd.DataFrame, model, path) -> None:
                 f"(r = {np.median(r_file[ok]):.6g} vs {np.median(r_model[ok]):.6g} m): different units or another model")
 
 
-def read_source(path, model=None) -> SourceResult:
+def read_source(path, model=None, mesh=None) -> SourceResult:
     """The table of :func:`read` with the folder's global figures per method, its result.vtu fields,
     its summary.json (the solver's liftoff, reactions, timings) when that is a JSON object and its
     friction.csv (:mod:`deckbridge.friction_table`) when the solution had friction."""
-    table = read(Path(path), model=model)
+    table = read(Path(path), model=model, mesh=mesh)
     summary = None
     folder = _folder(path)
     if folder is not None and (folder / "summary.json").is_file():

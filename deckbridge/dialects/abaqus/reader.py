@@ -153,8 +153,9 @@ def _surface(raw: pd.DataFrame, located: pd.DataFrame) -> np.ndarray:
 
 
 @checked(None)
-def read(path: Path, model=None) -> pd.DataFrame:
-    """Read the contact print tables of an Abaqus .dat file into the tidy table."""
+def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
+    """Read the contact print tables of an Abaqus .dat file into the tidy table (``mesh``: ``model``'s, when built)."""
+    from ...mesh import build_mesh
     from ...model import load
 
     path = Path(path)
@@ -164,8 +165,10 @@ def read(path: Path, model=None) -> pd.DataFrame:
     bad = sorted(set(raw["step"]) - {1, 2})
     if bad:
         raise DeckbridgeError(f"{str(path)!r}: step {bad[0]} is not in the load path (1 = N, 2 = N + lambda (T, M))")
-    model = model or load(None)
-    located = locate(raw["node"].to_numpy(), model, path)
+    if model is None:
+        model, mesh = load(None), None
+    mesh = mesh if mesh is not None else build_mesh(model)
+    located = locate(raw["node"].to_numpy(), model, path, mesh=mesh)
     u = scale(inp_deck_units(path, model))
     cpress = raw["CPRESS"].to_numpy(float) / u.stress
     copen = (raw["COPEN"].to_numpy(float) / u.length) if "COPEN" in raw else np.full(len(raw), np.nan)
@@ -183,4 +186,4 @@ def read(path: Path, model=None) -> pd.DataFrame:
         "sigma_n_pa": -cpress, "gap_m": copen,
         "status": np.where(is_open, "open", "closed"),
         "origin": [f"{str(path)!r}: line {n}" for n in raw["line"]],      # for the contact-law check
-    }), slave_areas(model, raw["node"].to_numpy(), surface))    # CPRESS x the mesh's tributary area
+    }), slave_areas(model, raw["node"].to_numpy(), surface, mesh))    # CPRESS x the mesh's tributary area
