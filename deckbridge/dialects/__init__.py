@@ -47,3 +47,8 @@ def names() -> list[str]:
 def runnable() -> list[str]:
     """Names of the dialects whose solver deckbridge runs (``run --with``), sorted."""
     return sorted(n for n, d in DIALECTS.items() if d.runner)
+
+
+def solver_versions(sources) -> dict[str, str | None]:
+    """{source label: version} of the dialects with a ``version`` whose source label is in ``sources``."""
+    return {d.source: d.part(d.version)() for d in DIALECTS.values() if d.version and d.source in sources}

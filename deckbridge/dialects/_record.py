@@ -69,7 +69,8 @@ class Dialect:
     here: ``run --with <name>``; decks run in ``DIR/<run_folder>/``); ``run_check``: f(model) raising
     :class:`deckbridge.errors.DeckUnsupported` before a run; ``wall_reader``: f(result_file, model, mesh) ->
     base-wall table (:mod:`deckbridge.wall_stress` columns) or None; ``series_writer``: f(job, model, outdir,
-    mesh, table) -> ParaView series paths, given the contact table already read.
+    mesh, table) -> ParaView series paths, given the contact table already read; ``version``: f() -> its
+    solver's version (the report's provenance).
     """
     name: str                  # canonical dialect name (CLI, registry key)
     package: str               # the dialect's folder as a package (parts are relative to it)
@@ -85,6 +86,7 @@ class Dialect:
     run_check: str | None = None
     wall_reader: str | None = None
     series_writer: str | None = None
+    version: str | None = None             # f() -> its solver's version line (provenance), None if absent
     # the largest node / element id its fields carry, and f(mesh) -> largest id its decks write
     max_id: int = INP_MAX_ID
     largest_id: str = "deckbridge.numbering.inp:largest_id"

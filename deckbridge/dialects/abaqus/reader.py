@@ -32,7 +32,8 @@ import pandas as pd
 
 from . import RECORD
 from ...errors import DeckbridgeError
-from ...readers._files import inp_deck_units, read_text
+from ...errors import read_text
+from ...readers._files import inp_deck_units
 from ...results import with_forces
 from ...units import scale
 from ...readers._checks import checked

@@ -11,4 +11,5 @@ RECORD = Dialect(
     purpose="CalculiX 2.20: penalty deck (node-to-surface LINEAR, or GAPUNI with NLGEOM) and mortar (Lagrange) "
             "deck, run by ccx",
     runner=".runner:run_result", run_folder="ccx", run_check=".render:check_supported",
-    wall_reader=".el_stress:ccx_wall", series_writer=".paraview:write_ccx_series")
+    wall_reader=".el_stress:ccx_wall", series_writer=".paraview:write_ccx_series",
+    version=".runner:version")

@@ -14,7 +14,8 @@ import numpy as np
 from ...errors import DeckbridgeError
 from ...mesh import build_mesh
 from ...numbering.skirt import mesh_node_ids
-from ...readers._files import INP_UNITS_TAG, read_text
+from ...errors import read_text
+from ...readers._files import INP_UNITS_TAG
 
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
 _DAT_CONTACT = re.compile(r"^\s*contact stress \(slave node,press,tang1,tang2\) for all contact elements and time\s+(\S+)")

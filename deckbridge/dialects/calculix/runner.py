@@ -129,3 +129,15 @@ def run(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], No
 def run_result(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], None] | None = None) -> Path:
     """The dialect record's runner: run ccx on ``deck`` (:func:`run`); the job's ``.frd`` (its reader's file)."""
     return run(deck, timeout_s=timeout_s, progress=progress).frd
+
+
+def version() -> str | None:
+    """'ccx -v' line with the version when CalculiX is installed (the dialect record's ``version``)."""
+    exe = os.environ.get("DECKBRIDGE_CCX") or shutil.which("ccx")
+    if exe is None:
+        return None
+    try:
+        r = subprocess.run([exe, "-v"], capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return next((ln.strip() for ln in (r.stdout + r.stderr).splitlines() if "ersion" in ln), None)

@@ -7,4 +7,4 @@ RECORD = Dialect(
     name="mystran", package=__name__, renderer=".render:write", templates="mystran", reader="mystran_f06",
     source="mystran", decks=("{name}_mystran.bdf",),
     purpose="MYSTRAN linear SOL 101, every gap closed (below liftoff)",
-    runner=".runner:run", max_id=NASTRAN_MAX_ID, largest_id="deckbridge.numbering.nastran:largest_id")
+    runner=".runner:run", version=".runner:version", max_id=NASTRAN_MAX_ID, largest_id="deckbridge.numbering.nastran:largest_id")

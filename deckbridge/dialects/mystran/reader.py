@@ -32,7 +32,7 @@ from ...errors import DeckbridgeError
 from ...mesh import build_mesh
 from ...model import Model
 from ...numbering.nastran import gap_layout
-from ...readers._files import read_text
+from ...errors import read_text
 from ...results import with_forces
 from ..nastran.reader import contact_map, result_units
 from ...readers._checks import checked

