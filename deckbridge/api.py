@@ -96,9 +96,11 @@ class RunResult:
 
 
 def run(model: Model | None = None, out: str | Path = "jar-report", *, with_ccx: bool = False,
-        echo: Callable[[str], None] | None = None) -> RunResult:
+        solvers: Iterable[str] = (), echo: Callable[[str], None] | None = None) -> RunResult:
     """The main job (``deckbridge run``): decks of every dialect, the reference solver with penalty and
-    Lagrange, with ``with_ccx`` CalculiX on its decks, the comparison and ``out/report.html``. All or
+    Lagrange, with ``with_ccx`` CalculiX on its decks (``solvers``: the dialects whose solver runs on its
+    decks, e.g. ``("calculix", "mystran")``; ``with_ccx`` = ``"calculix"`` among them), the comparison and
+    ``out/report.html``. All or
     nothing: a failed run leaves ``out`` as it was. ``model`` None: the default model. ``echo``: where the
     progress lines go (default: nowhere)."""
     from .job import run_job
@@ -106,7 +108,7 @@ def run(model: Model | None = None, out: str | Path = "jar-report", *, with_ccx:
 
     model = default_model() if model is None else model
     penalty_factor(model)                       # the model's own penalty in range, before any work
-    res = run_job(model, out, with_ccx=with_ccx, echo=echo or (lambda line: None))
+    res = run_job(model, out, with_ccx=with_ccx, solvers=tuple(solvers), echo=echo or (lambda line: None))
     comp = res["comparison"]
     sols = {}
     for label, rec in comp.sources.items():
@@ -152,14 +154,8 @@ def compare(*sources, model: Model | None = None, load_factors: Iterable[float] 
 
 
 def _read(src, model):
-    from .readers import detect, read
-    from .readers.reference import read_source
-    from .wall_stress import with_ccx_wall
-    name = detect(src)
-    if name == "reference":
-        return read_source(src, model=model)
-    tab = read(src, fmt=name, model=model)
-    return with_ccx_wall(tab, src, model) if name == "calculix" else tab
+    from .readers import read_result
+    return read_result(src, model=model)
 
 
 def sweep(model: Model, k_factors: Iterable[float], out: str | Path, *, meshes: list[dict] | None = None,

@@ -15,7 +15,7 @@ def ccx_job(model, folder: Path, deck: str = "penalty") -> Path:
     inp = folder / "ccx" / f"{model.name}_ccx_{deck}.inp"
     inp.parent.mkdir(parents=True)
     shutil.copyfile(folder / "decks" / inp.name, inp)
-    DIALECTS["calculix"].run_module().run(inp, timeout_s=300)
+    DIALECTS["calculix"].run(inp, timeout_s=300)
     return inp
 
 

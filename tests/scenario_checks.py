@@ -15,11 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from deckbridge.friction_table import read_friction
+from deckbridge.readers.reference import read_friction
 from deckbridge.quantities import PENETRATION_FLOOR, PENETRATION_WARN, RESIDUAL_WARN, TENSION_WARN
 from deckbridge.readers import read
-from deckbridge.readers.inp_mesh import read_inp_mesh
-from deckbridge.render.calculix import forces_nlgeom
+from deckbridge.importers.inp_mesh import read_inp_mesh
 from deckbridge.report.caveats import SMALL_STRAIN
 
 from scenarios import Run, table_state
@@ -158,8 +157,8 @@ def _applied(run: Run, lam: float) -> tuple[np.ndarray, np.ndarray]:
 
 def _nlgeom(run: Run, label: str) -> bool:
     """Whether the analysis of source ``label`` ('ccx/penalty', 'reference/lagrange', ...) is NLGEOM."""
-    source, method = label.split("/")
-    return source == "ccx" and bool(run.model.analysis.nlgeom or forces_nlgeom(run.model, method))
+    source = label.split("/")[0]
+    return source == "ccx" and bool(run.model.analysis.nlgeom)
 
 
 def equilibrium(run: Run) -> str:
@@ -227,16 +226,13 @@ def _lift_over_r(df, lam: float, radius: float) -> float:
 
 def ccx_vs_reference(run: Run) -> str:
     """ccx against the reference to 2 % of the peak at every state where the analysis is the same (no
-    NLGEOM in the deck: analysis.nlgeom false and none forced, render.calculix.forces_nlgeom) and the small-
+    NLGEOM in the deck: analysis.nlgeom false) and the small-
     strain caveat does not apply (lift/R <= report.caveats.SMALL_STRAIN of the reference)."""
     ran(run)
     if run.model.analysis.nlgeom:
         return "skipped: NLGEOM decks against the small-strain reference"
     out = []
     for ref, ccx in (("penalty", "penalty"), ("lagrange", "mortar")):
-        if forces_nlgeom(run.model, ccx):
-            out.append(f"{ccx} skipped (forced NLGEOM)")
-            continue
         r, c = run.tables[f"reference/{ref}"], run.tables[f"ccx/{ccx}"]
         j = r[r.surface == "table"].merge(c[c.surface == "table"], on=["step", "increment", "node"],
                                           suffixes=("_r", "_c"))
@@ -263,11 +259,11 @@ def _si_twin(run: Run):
 
 
 def paraview_si_equals_mm(run: Run) -> str:
-    """The ccx ParaView series (deckbridge.paraview_ccx) of the mm case's penalty job equals that of its SI
+    """The ccx ParaView series (deckbridge.dialects.calculix.paraview) of the mm case's penalty job equals that of its SI
     twin: every point and cell array of every VTU, and the points, to 1e-6 of the array's largest value."""
     import meshio
 
-    from deckbridge.paraview_ccx import write_ccx_series
+    from deckbridge.dialects.calculix.paraview import write_ccx_series
     ran(run)
     if run.model.units != "mm":
         return "skipped: SI case"

@@ -8,12 +8,12 @@ import pandas as pd
 import pytest
 
 from deckbridge.errors import DeckbridgeError
-from deckbridge.external.ccx_run import run
+from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.readers import calculix as reader
+from deckbridge.dialects.calculix import reader as reader
 from deckbridge.readers import read as read_any
-from deckbridge.render import calculix
+from deckbridge.dialects.calculix import render as calculix
 from deckbridge.results import conform
 
 SMALL = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1"]
@@ -275,7 +275,7 @@ def test_hard_mortar_matches_its_stiff_linear_regularisation(small_job, tmp_path
 def test_numbering_layer_gives_the_gap_ids_written_in_the_decks(overrides, tmp_path):
     """The reader's ids without a deck (numbering layer) are those of the GAPUNI lines the renderer wrote
     (GAPUNI penalty gaps: the NLGEOM deck)."""
-    from deckbridge.numbering.inp import ccx_ground_node_ids
+    from deckbridge.dialects.calculix.numbering import ccx_ground_node_ids
     model = load(None, overrides + ["analysis.nlgeom=true"])
     mesh = build_mesh(model)
     for method, path in zip(("penalty", "mortar"), calculix.write(model, mesh, tmp_path)):

@@ -7,8 +7,9 @@ import pytest
 
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.render import abaqus, render_all
-from deckbridge.readers.inp_mesh import read_inp_mesh
+from deckbridge.dialects.abaqus import render as abaqus
+from deckbridge.render import render_all
+from deckbridge.importers.inp_mesh import read_inp_mesh
 
 SMALL = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1"]
 

@@ -1,7 +1,7 @@
 """The radial stop is frictionless in every deck (issue 21 item 6) and ``decks`` leaves out a deck that cannot
 carry the model with a note, as ``run`` does (issue 21 item 16).
 
-The decks are read back by their parsers (pyNastran for the .bdf, :func:`deckbridge.readers.inp_mesh.contact_friction`
+The decks are read back by their parsers (pyNastran for the .bdf, :func:`deckbridge.importers.inp_mesh.contact_friction`
 for the .inp) and the stop is told from the table by geometry, not by the renderer's numbering: a table gap's
 axis GA -> GB is vertical, a stop gap's is radial.
 """
@@ -16,8 +16,10 @@ from pyNastran.bdf.bdf import BDF
 from deckbridge.cli import main
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.readers.inp_mesh import contact_friction
-from deckbridge.render import abaqus, calculix, nastran
+from deckbridge.importers.inp_mesh import contact_friction
+from deckbridge.dialects.abaqus import render as abaqus
+from deckbridge.dialects.calculix import render as calculix
+from deckbridge.dialects.nastran import render as nastran
 
 MU = 0.2
 SMALL = ["mesh.n_theta=12", "mesh.n_z=3", "mesh.n_r=1", f"contact.friction={MU}"]

@@ -54,12 +54,12 @@ def critical_load(model: Model, methods: tuple[str, ...] | list[str] = METHODS, 
                   k_factor: float = 1.0) -> dict:
     """lambda_c and its azimuth per method (one condensation for all); with two methods, the difference."""
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise DeckbridgeError(f"--tol = {tol!r}: must be a positive number (absolute, in load factor)")
+        raise DeckbridgeError(f"`tol` = {tol!r}: must be a positive number (absolute, in load factor)")
     if tol >= model.steps.lambda_max:
-        raise DeckbridgeError(f"--tol = {tol!r}: must be smaller than steps.lambda_max = {model.steps.lambda_max:g}")
+        raise DeckbridgeError(f"`tol` = {tol!r}: must be smaller than steps.lambda_max = {model.steps.lambda_max:g}")
     for m in methods:
         if m not in METHODS:
-            raise DeckbridgeError(f"--method = {m!r}: must be penalty, lagrange or both")
+            raise DeckbridgeError(f"`methods` = {m!r}: must be penalty, lagrange or both")
     kf = penalty_factor(model, k_factor)
     mesh, system = condense_model(model)
     with one_blas_thread():

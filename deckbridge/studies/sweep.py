@@ -67,20 +67,20 @@ CSV_COLUMNS = ["mesh", "method", "k_factor", "load_factor", "what", "max_abs_dif
 def check_options(k_factors, tol, open_stiffness, strategy, model: Model, load_factors=None) -> None:
     """Refuse bad options with one line, before anything is computed or written."""
     if not k_factors:
-        raise DeckbridgeError("--k-factors: give at least one penalty factor")
+        raise DeckbridgeError("`k_factors`: give at least one penalty factor")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
-        raise DeckbridgeError(f"--tol = {tol!r}: must be a fraction in (0, 1), e.g. 0.02 for 2 %")
+        raise DeckbridgeError(f"`tol` = {tol!r}: must be a fraction in (0, 1), e.g. 0.02 for 2 %")
     if open_stiffness not in OPEN_STIFFNESS:
-        raise DeckbridgeError(f"--open-stiffness = {open_stiffness!r}: must be one of {', '.join(OPEN_STIFFNESS)}")
+        raise DeckbridgeError(f"`open_stiffness` = {open_stiffness!r}: must be one of {', '.join(OPEN_STIFFNESS)}")
     if strategy not in STRATEGIES:
         raise DeckbridgeError(f"strategy = {strategy!r}: must be one of {', '.join(STRATEGIES)}")
     for lf in load_factors or []:
         if not (isinstance(lf, (int, float)) and 0 <= lf <= model.steps.lambda_max):
-            raise DeckbridgeError(f"--load-factor = {lf!r}: must be within [0, steps.lambda_max = "
+            raise DeckbridgeError(f"`load_factors` = {lf!r}: must be within [0, steps.lambda_max = "
                                   f"{model.steps.lambda_max:g}]")
     ratio = model.contact.penalty.open_ratio
     if open_stiffness == "fixed" and min(k_factors) <= ratio:
-        raise DeckbridgeError(f"--k-factors: {min(k_factors):g} with --open-stiffness fixed would make the closed "
+        raise DeckbridgeError(f"`k_factors`: {min(k_factors):g} with `open_stiffness` fixed would make the closed "
                               f"stiffness no larger than the open one (contact.penalty.open_ratio = {ratio:g})")
 
 

@@ -84,7 +84,7 @@ def _system_for(system, method: str, k_factor: float, open_stiffness: str):
     p = system.problem
     ratio = p.k_open_ratio / k_factor          # KB = open_ratio * k_c at every k-factor
     if not 0 < ratio < 1:
-        raise DeckbridgeError(f"--open-stiffness fixed with k-factor {k_factor:g}: the open stiffness "
+        raise DeckbridgeError(f"`open_stiffness` fixed with k-factor {k_factor:g}: the open stiffness "
                               f"(open_ratio {p.k_open_ratio:g} x k_c) would not be below the closed one")
     return dataclasses.replace(system, problem=dataclasses.replace(p, k_open_ratio=ratio))
 

@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 
 TABLES = {"OQGCF1": 8, "OBC1": 5, "OSPDS1": 2, "OSPDSI1": 2}     # name -> words per grid entry
 COLUMNS = {"OQGCF1": ("fx", "fy", "fz", "mx", "my", "mz"), "OBC1": ("pressure", "s1", "s2", "s3"),

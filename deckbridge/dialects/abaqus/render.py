@@ -25,13 +25,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..mesh import SkirtMesh
-from ..model import Model
-from ..numbering.inp import layout
-from ..numbering.skirt import mesh_node_ids
-from ._env import deck_paths, render
-from ..units import scale
-from .inp_cards import element_lines, face_lines, node_block, real, shared_context
+from . import RECORD
+from ...mesh import SkirtMesh
+from ...model import Model
+from ...numbering.inp import layout
+from ...numbering.skirt import mesh_node_ids
+from ...render._env import deck_paths, render
+from ...units import scale
+from ...render.inp_cards import element_lines, face_lines, node_block, real, shared_context
 
 
 def context(model: Model, mesh: SkirtMesh) -> dict:
@@ -64,6 +65,6 @@ def _node_surface(ss, ss_mesh, length: float = 1.0) -> str:
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the Abaqus/Standard Lagrange deck into ``outdir``."""
-    (p,) = deck_paths("abaqus", model.name, outdir)
-    p.write_text(render("abaqus", "lagrange.inp.j2", **context(model, mesh)))
+    (p,) = deck_paths(RECORD, model.name, outdir)
+    p.write_text(render(RECORD.templates, "lagrange.inp.j2", **context(model, mesh)))
     return [p]

@@ -34,15 +34,16 @@ from pathlib import Path
 import numpy as np
 from pyNastran.bdf.field_writer_8 import print_card_8
 
-from ..errors import DeckbridgeError
-from ..mesh import SkirtMesh
-from ..model import Model
-from ..numbering.nastran import clean_xyz, ground_distance, numbering
-from ..numbering.skirt import elem_ids, max_elem_id, max_node_id, mesh_node_ids
-from ..outdir import write_text
-from ..units import UNIT_LABEL, scale
-from . import nastran_cards as nc
-from ._env import deck_paths, render
+from ...errors import DeckbridgeError
+from ...mesh import SkirtMesh
+from ...model import Model
+from ...numbering.nastran import clean_xyz, ground_distance, numbering
+from ...numbering.skirt import elem_ids, max_elem_id, max_node_id, mesh_node_ids
+from ...outdir import write_text
+from ...units import UNIT_LABEL, scale
+from ...render import nastran_cards as nc
+from ...render._env import deck_paths, render
+from . import RECORD
 
 PID_LAYER = 2
 BCSET_ID = 1
@@ -227,5 +228,5 @@ def deck_text(model: Model, mesh: SkirtMesh) -> str:
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write ``<name>_surface.bdf`` into ``outdir``."""
-    (path,) = deck_paths("nastran_surface", model.name, outdir)
+    (path,) = deck_paths(RECORD, model.name, outdir)
     return [write_text(path, deck_text(model, mesh))]

@@ -14,7 +14,7 @@ frame, tension > 0 (ccx's shear order xy, xz, yz: not the reference solver's xy,
 ccx's total time (deckbridge decks: step 1 ends at t = 1, step 2 at t = 1 + (lambda / lambda_max)).
 The set name is upper case. Values such as ``1.234567-100`` (three-digit exponent without ``E``) are read.
 
-Not a format of the readers registry (the ``calculix`` reader returns the contact table): :func:`read_el_stress`
+Not a result format (the ``calculix`` reader returns the contact table): :func:`read_el_stress`
 gives the raw table, :func:`base_wall_table` the wall's axial stress at the base (inner, outer, membrane,
 bending) per time and azimuth, by the same Gauss-to-corner extrapolation and nodal averaging as the reference
 solver (:mod:`reference_solver.stress`), and :func:`read_base_wall` does both for a deckbridge ccx job (the
@@ -33,11 +33,13 @@ import pandas as pd
 
 from reference_solver.stress import extrapolate_to_corners, nodal_average
 
-from ..errors import DeckbridgeError
-from ..base_wall import CCX_TO_VOIGT, base_wall
-from ..mesh_data import base_wall_areas
-from ..numbering.skirt import bottom_row_index, elem_ids
-from ._files import inp_deck_units
+from ...errors import DeckbridgeError
+from ...azimuth import snap_deg
+from ...base_wall import CCX_TO_VOIGT, base_wall
+from ...mesh_data import base_wall_areas
+from ...numbering.skirt import bottom_row_index, elem_ids
+from ...readers._files import inp_deck_units
+from ...wall_stress import AREA, WALL_COLUMNS
 
 COLUMNS = ["sxx", "syy", "szz", "sxy", "sxz", "syz"]     # ccx order, [Pa]
 N_IP = 8
@@ -160,8 +162,8 @@ def read_base_wall(path: str | Path, model, mesh=None) -> pd.DataFrame:
     Columns: step, load_factor (0 in step 1; lambda_max x step time in step 2), time, theta_deg,
     szz_inner_pa, szz_outer_pa, szz_mean_pa, szz_bending_pa [Pa, SI whatever the deck units], tension > 0.
     """
-    from ..mesh import build_mesh
-    from ..units import scale
+    from ...mesh import build_mesh
+    from ...units import scale
 
     dat = Path(path).with_suffix(".dat")
     stress = read_el_stress(dat)
@@ -175,3 +177,22 @@ def read_base_wall(path: str | Path, model, mesh=None) -> pd.DataFrame:
     table.insert(0, "load_factor", np.where(step == 1, 0.0, model.steps.lambda_max * (table["time"] - 1.0)))
     table.insert(0, "step", step)
     return table
+
+
+def ccx_wall(result: str | Path, model, mesh=None) -> pd.DataFrame | None:
+    """The dialect record's wall reader: wall table (:mod:`deckbridge.wall_stress` columns, SI whatever the deck's
+    units) of the ccx job whose result file is ``result``, from its ``.dat`` *EL PRINT S blocks
+    (:func:`read_base_wall`); None when the job printed none, for a folder of jobs, or without a ``.dat``."""
+    p = Path(str(result))
+    dat = p.with_suffix(".dat")
+    if p.is_dir() or not dat.is_file():
+        return None
+    try:
+        t = read_base_wall(dat, model, mesh=mesh)
+    except DeckbridgeError as exc:
+        if "no '*EL PRINT" in str(exc) or "cannot read" in str(exc):
+            return None
+        raise
+    inc = pd.Series(t["time"]).groupby(t["step"].to_numpy()).rank(method="dense").to_numpy(np.int64)
+    t = t.assign(increment=inc, theta_deg=snap_deg(t["theta_deg"]))
+    return t[WALL_COLUMNS + [c for c in (AREA,) if c in t]]

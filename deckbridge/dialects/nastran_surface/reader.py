@@ -1,6 +1,6 @@
 """Nastran surface-contact results (OP2 tables OQGCF1, OBC1, OSPDS1/OSPDSI1) -> the tidy contact table.
 
-The tables are read by our own record reader, :mod:`.nastran_contact_op2` (pyNastran 1.4.1 stores
+The tables are read by our own record reader, :mod:`.op2_tables` (pyNastran 1.4.1 stores
 the OBC1 pressures as zeros: it never adds the records it unpacks). The deck beside the OP2 (same stem,
 .bdf/.dat/.nas), or the one given, is read with pyNastran for what the OP2 does not hold: the source
 faces (``BCTSET`` source regions -> ``BSURFS`` element faces), the grids' positions and the faces' shares.
@@ -38,16 +38,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..azimuth import azimuth_deg
-from ..dialects import DIALECTS
-from ..errors import InputError
-from ..model import Model
-from ..results import with_forces
-from ..units import scale
-from ._checks import checked, reading
-from ._registry import READERS, register
-from .nastran_contact_op2 import COLUMNS, TABLES, read_tables
-from .nastran_op2 import deck_units, sibling_deck
+from ...azimuth import azimuth_deg
+from ...errors import InputError
+from ...model import Model
+from ...results import with_forces
+from ...units import scale
+from ...readers._checks import checked, reading
+from . import RECORD
+from .op2_tables import COLUMNS, TABLES, read_tables
+from ..nastran.reader import deck_units, sibling_deck
 
 FORMAT = "nastran_contact"
 # corner faces of the linear solids (indices into the element's corner grids), outward order irrelevant here
@@ -186,7 +185,7 @@ def tidy(raw: pd.DataFrame, sf: SourceFaces, path: Path, model: Model | None, un
         nz = np.array([abs(sf.normal[k][2]) for k in keys])
         step = int(sub)
         out.append(pd.DataFrame({
-            "source": DIALECTS["nastran_surface"].source, "method": "penalty", "step": step,
+            "source": RECORD.source, "method": "penalty", "step": step,
             "increment": int(inc), "load_factor": 0.0 if step == 1 else lam, "node": nodes,
             "surface": np.where(nz < 0.5, "stop", "table"),
             "theta_deg": azimuth_deg(x[:, 0], x[:, 1]), "z": x[:, 2], "r": np.hypot(x[:, 0], x[:, 1]),
@@ -208,7 +207,7 @@ def _deck_of(path: Path, deck: str | Path | None) -> Path:
     return d
 
 
-def _detect(path: Path) -> bool:
+def detect(path: Path) -> bool:
     """An .op2 holding a contact table (a cheap look for the table names; the reader checks the rest)."""
     if not (path.is_file() and path.suffix.lower() == ".op2"):
         return False
@@ -219,7 +218,6 @@ def _detect(path: Path) -> bool:
     return True
 
 
-@register(FORMAT, detect=_detect)
 @checked(None)
 def read(path: str | Path, model: Model | None = None, deck: str | Path | None = None) -> pd.DataFrame:
     """Tidy table of a Nastran surface-contact OP2 (the deck beside it gives faces and positions)."""
@@ -233,12 +231,6 @@ def read(path: str | Path, model: Model | None = None, deck: str | Path | None =
     return tidy(raw, source_faces(d), path, model, _units(path, d, model))
 
 
-# nastran_op2 detects any .op2, so a contact OP2 matches both readers and readers.detect takes the first
-# registered: ask this one first (it matches only an OP2 that holds contact tables). To drop once
-# nastran_op2's detect leaves out OP2s without gap tables.
-for _name in [k for k in READERS if k != FORMAT]:
-    READERS[_name] = READERS.pop(_name)
-
 
 def read_contact(path: str | Path, deck: str | Path | None = None, model: Model | None = None) -> pd.DataFrame:
     """The tidy contact table (:data:`deckbridge.results.COLUMNS`) of a Nastran surface-contact OP2.
@@ -247,5 +239,5 @@ def read_contact(path: str | Path, deck: str | Path | None = None, model: Model 
     gives the source faces and positions. One-line :class:`deckbridge.errors.DeckbridgeError` on an OP2
     without contact tables, a truncated or garbled file, or non-finite values.
     """
-    from ..results import conform
+    from ...results import conform
     return conform(read(path, model=model, deck=deck))

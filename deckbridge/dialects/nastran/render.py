@@ -9,19 +9,20 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..mesh import SkirtMesh
-from ..model import Model
-from ..outdir import write_text
-from . import nastran_cards as nc
-from . import nastran_notes
-from ._env import deck_paths, render
+from . import RECORD
+from ...mesh import SkirtMesh
+from ...model import Model
+from ...outdir import write_text
+from ...render import nastran_cards as nc
+from ...render import nastran_notes
+from ...render._env import deck_paths, render
 
 
 def deck_text(model: Model, mesh: SkirtMesh) -> str:
     """The whole penalty deck as text."""
     b = nc.penalty_bulk(model, mesh)
     return render(
-        "nastran", "penalty.bdf.j2", **nastran_notes.context(model, mesh),
+        RECORD.templates, "penalty.bdf.j2", **nastran_notes.context(model, mesh),
         name=model.name, title=model.title, lambda_max=f"{model.steps.lambda_max:g}",
         increments=model.steps.increments, load_introduction=model.load_introduction,
         spc_sid=nc.SPC_SID, cid_cyl=nc.CID_CYL, load_step1=nc.LOAD_STEP1, load_step2=nc.LOAD_STEP2,
@@ -33,5 +34,5 @@ def deck_text(model: Model, mesh: SkirtMesh) -> str:
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write ``<name>_penalty.bdf`` into ``outdir``."""
-    (path,) = deck_paths("nastran", model.name, outdir)
+    (path,) = deck_paths(RECORD, model.name, outdir)
     return [write_text(path, deck_text(model, mesh))]

@@ -11,14 +11,14 @@ Fields, where ccx gives them (names and units as :mod:`deckbridge.paraview`, SI 
 ``units``: the .frd's deck-unit values are divided by the factors of :mod:`deckbridge.units`):
   ``displacement_m`` (the .frd DISP block) [m], ``node_id``, named-set masks and tributary areas;
   ``<surface>_sigma_n_pa``, ``<surface>_gap_m``, ``<surface>_status`` at the slave nodes from the
-  CalculiX reader (:mod:`deckbridge.readers.calculix`: GAPUNI forces or mortar RF / CPRESS; sigma_N < 0
+  CalculiX reader (:mod:`.reader`: GAPUNI forces or mortar RF / CPRESS; sigma_N < 0
   compression, gap > 0 open, status 1 closed, 0 open, -1 not a slave); a state the reader has no contact
   result for gets NaN sigma_N and gap and status 0 at the slave nodes (0 elsewhere);
   ``stress_nodal_pa`` (n, 6) [Pa] Voigt (xx, yy, zz, xy, yz, zx) and ``von_mises_nodal_pa`` from the .frd
   STRESS block (the decks write ``*EL FILE`` S): ccx's own extrapolation to the nodes averaged over the
   elements at a node, the reference series' definition; at nodes a GAPUNI element touches (the NLGEOM
   penalty deck, the mortar deck's stop) it is averaged with the gap's zeros (use the ``*EL PRINT``
-  recovery for numbers there, see readers/ccx_el_stress.py).
+  recovery for numbers there, see el_stress.py).
 No tangential spring force (ccx does not print it for these decks) and no cell stress.
 """
 
@@ -31,14 +31,12 @@ import pandas as pd
 
 from reference_solver.elements import von_mises
 
-from .errors import DeckbridgeError
-from .mesh import build_mesh
-from .numbering.skirt import mesh_node_ids
-from .outdir import staged
-from .units import scale
-from .paraview import contact_data, mesh_data, state_label, write_states
-from .readers import read
-from .readers.calculix import _frd_blocks
+from ...errors import DeckbridgeError
+from ...numbering.skirt import mesh_node_ids
+from ...outdir import staged
+from ...units import scale
+from ...paraview import contact_data, mesh_data, state_label, write_states
+from .result_files import _frd_blocks
 
 LF_TOL = 1e-6   # relative agreement of the reader's load factor with the .frd time of the same increment
 
@@ -70,15 +68,23 @@ def _frd_states(frd: Path, mesh, units: str = "SI") -> list[dict]:
     return out
 
 
-def write_ccx_series(job_path: str | Path, model, outdir: str | Path) -> list[Path]:
+def write_ccx_series(job_path: str | Path, model, outdir: str | Path, mesh=None,
+                     table: pd.DataFrame | None = None) -> list[Path]:
     """Write ``<job>.pvd`` and ``<job>_NNN.vtu`` of the ccx job ``job_path`` (its .inp/.frd/.dat, any
-    suffix) into ``outdir``, atomically; returns the written paths, the pvd first. Called after the job ran."""
+    suffix) into ``outdir``, atomically; returns the written paths, the pvd first. Called after the job ran
+    (the dialect record's series writer) with the model's ``mesh`` and the job's contact ``table`` already
+    read (:mod:`.reader`; the .frd is parsed once, :func:`.result_files._frd_blocks`); both are made here
+    when not given."""
     stem = Path(job_path).with_suffix("")
     frd = stem.with_suffix(".frd")
     if not frd.is_file():
         raise DeckbridgeError(f"{str(frd)!r}: no such file (run ccx first)")
-    mesh = build_mesh(model)
-    table: pd.DataFrame = read(frd, fmt="calculix", model=model)
+    if mesh is None:
+        from ...mesh import build_mesh
+        mesh = build_mesh(model)
+    if table is None:
+        from ...readers import read
+        table = read(frd, fmt="calculix", model=model, mesh=mesh)
     rows = mesh.contact_rows
     key = pd.Series(np.arange(rows.size), index=pd.MultiIndex.from_arrays([mesh_node_ids(mesh, rows.nodes), rows.surface]))
     groups = {k: g for k, g in table.groupby(["step", "increment"])}

@@ -7,8 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import DeckbridgeError
-from ._files import read_text
+from ..errors import DeckbridgeError, read_text
 
 _COUNTED = re.compile(r"^(?:DC3D|C3D|CPS|CPE|CAX|M3D|S|T3D)(\d+)")
 _FIXED = {"B31": 2, "B32": 3, "GAPUNI": 2, "SPRING1": 1, "SPRING2": 2, "SPRINGA": 2, "DASHPOTA": 2, "MASS": 1}

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from ..errors import DeckbridgeError, RunError
+from ...errors import DeckbridgeError, RunError
 
 _PROGRESS = re.compile(r"^\s*(increment \d+ attempt \d+|iteration \d+|STEP\s+\d+|Job finished)", re.I)
 _JOB_SCRATCH = (".12d", ".cvg", ".rout")
@@ -124,3 +124,20 @@ def run(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], No
     increments = sum(1 for ln in sta_lines if re.match(r"^\s*\d+\s+\d+\s+\d+\s+\d+\s", ln))
     return CcxRun(deck=deck, dat=deck.with_suffix(".dat"), frd=deck.with_suffix(".frd"), sta=sta,
                   seconds=seconds, increments=increments)
+
+
+def run_result(deck: str | Path, timeout_s: float = 600.0, progress: Callable[[str], None] | None = None) -> Path:
+    """The dialect record's runner: run ccx on ``deck`` (:func:`run`); the job's ``.frd`` (its reader's file)."""
+    return run(deck, timeout_s=timeout_s, progress=progress).frd
+
+
+def version() -> str | None:
+    """'ccx -v' line with the version when CalculiX is installed (the dialect record's ``version``)."""
+    exe = os.environ.get("DECKBRIDGE_CCX") or shutil.which("ccx")
+    if exe is None:
+        return None
+    try:
+        r = subprocess.run([exe, "-v"], capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return next((ln.strip() for ln in (r.stdout + r.stderr).splitlines() if "ersion" in ln), None)

@@ -1,12 +1,12 @@
 """The model of an imported mesh (``deckbridge import``): geometry measured on the mesh
-(:func:`.geometry.measured_geometry`), import keys, checked by meshing it."""
+(:func:`deckbridge.importers.geometry.measured_geometry`), import keys, checked by meshing it."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-from .geometry import measured_geometry
+from .importers.geometry import measured_geometry
 
 
 # the keys ``--like`` carries over from another model: everything but the mesh and the geometry
@@ -22,8 +22,8 @@ def model_for_mesh(mesh_path: str | Path, model_path: str | Path, base: str, top
     ``mesh`` and ``geometry``) the imported model takes instead of the default JAR's; ``overrides`` apply
     after. The mesh is read and checked (every import check) before anything is returned.
     """
-    from ..mesh import build_mesh
-    from ..model import Model, apply_overrides
+    from .mesh import build_mesh
+    from .model import Model, apply_overrides
     mesh_path, model_path = Path(mesh_path).resolve(), Path(model_path).resolve()
     sets = {"base": base, "top": top, **({"stop": stop} if stop else {})}
     data = Model().to_dict()

@@ -38,16 +38,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..dialects import DIALECTS
-from ..errors import DeckbridgeError
-from ..azimuth import azimuth_deg
-from ..mesh import build_mesh
-from ..model import Model
-from ..numbering.nastran import gap_layout
-from ..units import Units, scale
-from ..results import with_forces
-from ._checks import checked
-from ._registry import register
+from . import RECORD
+from ...errors import DeckbridgeError
+from ...azimuth import azimuth_deg
+from ...mesh import build_mesh
+from ...model import Model
+from ...numbering.nastran import gap_layout
+from ...units import Units, scale
+from ...results import with_forces
+from ...readers._checks import checked
 
 _UNITS_LINE = re.compile(r"^\$\s*deckbridge-units:\s*(SI|mm)\s*$")
 
@@ -138,14 +137,14 @@ def read_gap_forces(path: str | Path, u0: float | dict | None = None, units: Uni
 
 
 # --- element id -> slave node ---------------------------------------------------------------------
-def model_contact_map(model: Model) -> pd.DataFrame:
+def model_contact_map(model: Model, mesh=None) -> pd.DataFrame:
     """Contact elements of deckbridge decks of ``model``, index = element id.
 
     Columns node, surface, theta_deg, r, z, area, u0, dof_sign (master normal . the spring's
     DOF direction: +1 for table springs on z and an inner stop's springs on +r, -1 for an outer
-    stop), f0 (PGAP preload [N], > 0 compression: 0 in deckbridge decks).
+    stop), f0 (PGAP preload [N], > 0 compression: 0 in deckbridge decks). ``mesh``: the model's, when built.
     """
-    mesh = build_mesh(model)
+    mesh = mesh if mesh is not None else build_mesh(model)
     lay = gap_layout(mesh)
     t = np.radians(lay.theta_deg)
     radial = np.stack([np.cos(t), np.sin(t), np.zeros_like(t)], axis=1)
@@ -218,10 +217,10 @@ def deck_contact_map(deck: Path) -> pd.DataFrame:
     return df
 
 
-def contact_map(path: Path, model: Model | None) -> pd.DataFrame:
+def contact_map(path: Path, model: Model | None, mesh=None) -> pd.DataFrame:
     """Element -> slave-node map from the model when given, else from the deck beside ``path``."""
     if model is not None:
-        return model_contact_map(model)
+        return model_contact_map(model, mesh)
     deck = sibling_deck(path)
     if deck is None:
         raise DeckbridgeError(f"{str(path)!r}: cannot map gap elements to nodes: pass the model, "
@@ -278,18 +277,18 @@ def tidy(raw: pd.DataFrame, cmap: pd.DataFrame, path: Path, source: str, method:
     }), m["area"].to_numpy(float))
 
 
-def _detect(path: Path) -> bool:
+def detect(path: Path) -> bool:
     return path.is_file() and path.suffix.lower() == ".op2"
 
 
-@register("nastran_op2", detect=_detect)
 @checked(None)
-def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
-    """Tidy table of the gap results in a Nastran OP2 (force table preferred, else OESNLXR)."""
+def read(path: str | Path, model: Model | None = None, mesh=None) -> pd.DataFrame:
+    """Tidy table of the gap results in a Nastran OP2 (force table preferred, else OESNLXR); ``mesh``: the
+    model's, when built."""
     path = Path(path)
     raw = read_gap_forces(path, units=result_units(path, model))
     tables = set(raw["table"])
     raw = raw[raw["table"] == ("OEF1X" if "OEF1X" in tables else "OESNLXR")]
-    cmap = contact_map(path, model)
+    cmap = contact_map(path, model, mesh)
     lam = model.steps.lambda_max if model is not None else 1.0
-    return tidy(raw, cmap, path, DIALECTS["nastran"].source, "penalty", lam)
+    return tidy(raw, cmap, path, RECORD.source, "penalty", lam)

@@ -34,18 +34,17 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..dialects import DIALECTS
-from ..errors import DeckbridgeError
-from ..mesh import build_mesh
-from ..numbering.inp import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
-from ..numbering.skirt import mesh_node_index
-from ..units import scale
-from ._registry import register
-from .ccx_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
-from ._checks import checked, reading
-from ..results import with_forces
+from . import RECORD
+from ...errors import DeckbridgeError
+from ...mesh import build_mesh
+from .numbering import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
+from ...numbering.skirt import mesh_node_index
+from ...units import scale
+from .result_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
+from ...readers._checks import checked, reading
+from ...results import with_forces
 
-SOURCE = DIALECTS["calculix"].source   # "ccx"
+SOURCE = RECORD.source   # "ccx"
 STATUS_TOL = 1e-6   # closed: sigma_n < -STATUS_TOL * max |sigma_n| of the increment (mortar RF noise ~1e-11)
 
 
@@ -100,7 +99,7 @@ def _step_of(t: float, step: int | None) -> tuple[int, float]:
     return step, t - (step - 1)
 
 
-def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
+def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFrame:
     """Contact table of one ccx job. Mortar table slaves: nodal contact force RF / area from the .dat
     (``table_from="rf"``, exact force balance) or -CPRESS from the .frd (``"cpress"``, or when the .dat
     has no RF of the table slaves)."""
@@ -109,8 +108,9 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
         job, meta_slaves, gaps = _read_meta(inp)
     method = _method_of(stem, job)
     if model is not None:
-        sl = _slaves_from_model(model)
-        n_nodes = build_mesh(model).n_nodes
+        mesh = mesh if mesh is not None else build_mesh(model)
+        sl = _slaves_from_model(model, mesh)
+        n_nodes = mesh.n_nodes
         if "n_nodes" in job and int(job["n_nodes"]) != n_nodes:
             raise DeckbridgeError(f"{str(inp)!r}: deck of a mesh with {job['n_nodes']} nodes, model "
                                   f"{model.name!r} has {n_nodes}: results of another model?")
@@ -160,7 +160,7 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     n2f = method == "penalty" and ("n2f_order" in job or (not gaps and model is not None
                                                           and ccx_penalty_is_n2f(model)))
     if n2f:
-        sigmas, origins, law_gaps = _n2f_sigma(stem, sl, job, model, contact, contact_gap)
+        sigmas, origins, law_gaps = _n2f_sigma(stem, sl, job, model, contact, contact_gap, mesh)
         return _frames(sl, method, lam, sigmas, disp, stem, origins, law_gaps)
     table = sl.surface == "table"
     gap_rows = np.ones(sl.node.size, bool) if method == "penalty" else ~table
@@ -175,7 +175,7 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     if gap_rows.any() and not forces:
         raise DeckbridgeError(f"{str(dat if dat.is_file() else stem)!r}: no gap-element forces (*NODE PRINT RF "
                               "of the grounded nodes) in the .dat")
-    ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model)
+    ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model, mesh)
     force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
 
     sigmas, origins = {}, {}
@@ -204,7 +204,7 @@ def _read_job(stem: Path, model, table_from: str = "rf") -> pd.DataFrame:
     return _frames(sl, method, lam, sigmas, disp, stem, origins)
 
 
-def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict, contact_gap: dict | None = None):
+def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict, contact_gap: dict | None = None, mesh=None):
     """sigma_n per time of a node-to-surface penalty job: -CSTR x A_ccx / A (force k_c d over the model's area),
     the rows' origins and ccx's own gap of each row (the CDIS ``normal`` printed beside it, NaN without one).
 
@@ -218,7 +218,7 @@ def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict, contact_
     if "n2f_order" in job:
         order, area = job["n2f_order"], job["n2f_area"]
     else:
-        mesh = build_mesh(model)
+        mesh = mesh if mesh is not None else build_mesh(model)
         a_ccx = ccx_node_slave_areas(mesh)
         order = [(int(n), g.surface) for g in ccx_n2f_groups(mesh) for n in g.nodes]
         idx = dict(zip((n for n, _ in order), mesh_node_index(mesh, [n for n, _ in order]).tolist()))
@@ -288,7 +288,7 @@ def _key(t: float, step: int | None) -> tuple[int, float]:
     return s, t
 
 
-def _ground_nodes(stem: Path, sl: Slaves, rows: np.ndarray, gaps: dict, method: str, model) -> np.ndarray:
+def _ground_nodes(stem: Path, sl: Slaves, rows: np.ndarray, gaps: dict, method: str, model, mesh=None) -> np.ndarray:
     """Grounded GAPUNI node of each slave row (0 where none): from the deck, else from the numbering."""
     out = np.zeros(sl.node.size, np.int64)
     if not rows.any():
@@ -296,7 +296,7 @@ def _ground_nodes(stem: Path, sl: Slaves, rows: np.ndarray, gaps: dict, method: 
     if not gaps:
         if model is None:
             raise DeckbridgeError(f"{str(stem)!r}: gap elements unknown (no deck beside the results, no model)")
-        gaps = ccx_ground_node_ids(model, build_mesh(model), method)
+        gaps = ccx_ground_node_ids(model, mesh if mesh is not None else build_mesh(model), method)
     for i in np.flatnonzero(rows):
         g = gaps.get((int(sl.node[i]), str(sl.surface[i])))
         if g is None:
@@ -319,10 +319,10 @@ def _check_coords(frd: Path, coords: dict, sl: Slaves, model) -> None:
                                   f"n_z={model.mesh.n_z}): results of another model?")
 
 
-@register("calculix", detect=detect)
 @checked("ccx")
-def read(path: Path, model=None) -> pd.DataFrame:
-    """Contact table of the ccx job(s) at ``path`` (a .frd/.dat/.inp file or a folder)."""
+def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
+    """Contact table of the ccx job(s) at ``path`` (a .frd/.dat/.inp file or a folder); ``mesh``: the model's
+    mesh when already built (else built here, once)."""
     path = Path(path)
     if path.is_dir():
         stems = _jobs_in(path)
@@ -334,7 +334,9 @@ def read(path: Path, model=None) -> pd.DataFrame:
             raise DeckbridgeError(f"{str(path)!r}: no CalculiX results (.frd/.dat) beside it")
     else:
         raise DeckbridgeError(f"{str(path)!r}: no such file or folder")
-    return pd.concat([_read_job(s, model) for s in stems], ignore_index=True)
+    if model is not None and mesh is None:
+        mesh = build_mesh(model)
+    return pd.concat([_read_job(s, model, mesh=mesh) for s in stems], ignore_index=True)
 
 
 def n2f_tangential_force(dat: Path, model) -> dict[float, dict[int, float]]:

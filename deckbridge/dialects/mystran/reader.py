@@ -27,16 +27,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..dialects import DIALECTS
-from ..errors import DeckbridgeError
-from ..mesh import build_mesh
-from ..model import Model
-from ..numbering.nastran import gap_layout
-from ._files import read_text
-from ..results import with_forces
-from ._registry import register
-from .nastran_op2 import contact_map, result_units
-from ._checks import checked
+from . import RECORD
+from ...errors import DeckbridgeError
+from ...mesh import build_mesh
+from ...model import Model
+from ...numbering.nastran import gap_layout
+from ...errors import read_text
+from ...results import with_forces
+from ..nastran.reader import contact_map, result_units
+from ...readers._checks import checked
 
 _HEADER = re.compile(r"F O R\s+E L E M E N T\s+T Y P E\s+E L A S 2\b")
 _SUBCASE = re.compile(r"OUTPUT FOR SUBCASE\s+(\d+)")
@@ -71,28 +70,29 @@ def read_spring_forces(path: str | Path) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["subcase", "element", "force_n"])
 
 
-def _detect(path: Path) -> bool:
+def detect(path: Path) -> bool:
     if not (path.is_file() and path.suffix.lower() == ".f06"):
         return False
     with path.open(errors="replace") as fh:
         return "MYSTRAN" in fh.read(4096)
 
 
-@register("mystran_f06", detect=_detect)
 @checked(None, unknown_load_factor=True)
-def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
-    """Tidy table of the contact springs of a MYSTRAN linear run."""
+def read(path: str | Path, model: Model | None = None, mesh=None) -> pd.DataFrame:
+    """Tidy table of the contact springs of a MYSTRAN linear run; ``mesh``: the model's, when built."""
     path = Path(path)
     raw = read_spring_forces(path)
     raw["force_n"] = raw["force_n"] / result_units(path, model).force
-    cmap = contact_map(path, model)
+    if model is not None and mesh is None:
+        mesh = build_mesh(model)
+    cmap = contact_map(path, model, mesh)
     raw = raw[raw["element"].isin(cmap.index)]
     if raw.empty:
         raise DeckbridgeError(f"{str(path)!r}: no contact spring forces (element ids of another model?)")
     m = cmap.loc[raw["element"].to_numpy()]
     force_on_normal = m["dof_sign"].to_numpy() * raw["force_n"].to_numpy()   # > 0 pushes the skirt off the master
     if model is not None:
-        lay = gap_layout(build_mesh(model))
+        lay = gap_layout(mesh)
         k = pd.Series(lay.k, index=lay.eid).loc[raw["element"].to_numpy()].to_numpy()
         gap = -force_on_normal / k
         lam = model.steps.lambda_max
@@ -100,7 +100,7 @@ def read(path: str | Path, model: Model | None = None) -> pd.DataFrame:
         gap = np.full(len(raw), np.nan)
         lam = np.nan
     return with_forces(pd.DataFrame({
-        "source": DIALECTS["mystran"].source, "method": "linear", "step": 2, "increment": 1, "load_factor": lam,
+        "source": RECORD.source, "method": "linear", "step": 2, "increment": 1, "load_factor": lam,
         "node": m["node"].to_numpy(np.int64), "surface": m["surface"].to_numpy(),
         "theta_deg": m["theta_deg"].to_numpy(), "z": m["z"].to_numpy(), "r": m["r"].to_numpy(),
         "sigma_n_pa": -force_on_normal / m["area"].to_numpy(), "gap_m": gap, "status": "closed",

@@ -1,6 +1,6 @@
 """CalculiX 2.20 files of the deckbridge decks: the deck's ``** deckbridge-...`` slave table and job metadata,
 the ``.dat`` ``*NODE PRINT`` / ``*CONTACT PRINT`` blocks and the ``.frd`` DISP/CONTACT blocks, as written
-(deck units; :mod:`deckbridge.readers.calculix` scales them to SI and assembles the contact table).
+(deck units; :mod:`.reader` scales them to SI and assembles the contact table).
 """
 
 from __future__ import annotations
@@ -11,10 +11,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import DeckbridgeError
-from ..mesh import build_mesh
-from ..numbering.skirt import mesh_node_ids
-from ._files import INP_UNITS_TAG, read_text
+from ...errors import DeckbridgeError
+from ...mesh import build_mesh
+from ...numbering.skirt import mesh_node_ids
+from ...errors import read_text
+from ...readers._files import INP_UNITS_TAG
 
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
 _DAT_CONTACT = re.compile(r"^\s*contact stress \(slave node,press,tang1,tang2\) for all contact elements and time\s+(\S+)")
@@ -40,8 +41,8 @@ class Slaves:
     clearance: np.ndarray
 
 
-def _slaves_from_model(model) -> Slaves:
-    mesh = build_mesh(model)
+def _slaves_from_model(model, mesh=None) -> Slaves:
+    mesh = mesh if mesh is not None else build_mesh(model)
     sets = mesh.slave_sets
     cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
     return Slaves(node=cat(lambda s: mesh_node_ids(mesh, s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
@@ -141,11 +142,29 @@ def _dat_blocks(path: Path) -> list[dict]:
     return blocks
 
 
+_LAST_FRD: list = []     # (key, parsed) of the last .frd parsed: the reader and the ParaView series share it
+
+
 def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
-    """Node coordinates and DISP/CONTACT result blocks of an ASCII ``.frd``.
+    """Node coordinates and DISP/CONTACT result blocks of an ASCII ``.frd`` (read-only: shared).
 
     Each block: name, step, inc (ccx increment within the step), time, {node: values}, {node: line number}.
+    A job's ``.frd`` is parsed once: the last file parsed is kept (same path, size and modification time)
+    for the next caller (the ``run --with calculix`` contact table, then its ParaView series).
     """
+    try:
+        st = Path(path).stat()
+        key = (str(Path(path).resolve()), st.st_size, st.st_mtime_ns)
+    except OSError:
+        key = None
+    if key is not None and _LAST_FRD and _LAST_FRD[0] == key:
+        return _LAST_FRD[1]
+    parsed = _parse_frd(path)
+    _LAST_FRD[:] = [key, parsed] if key is not None else []
+    return parsed
+
+
+def _parse_frd(path: Path) -> tuple[dict, list[dict]]:
     coords: dict[int, np.ndarray] = {}
     blocks: list[dict] = []
     try:

@@ -2,7 +2,7 @@
 
 Penalty, ``analysis.nlgeom: false`` (default, the reference solver's small-strain analysis): node-to-surface
 contact with ``PRESSURE-OVERCLOSURE=LINEAR``, node-based slave surfaces grouped by equal k_c / A_ccx
-(:func:`deckbridge.numbering.inp.ccx_n2f_groups`), masters the faces of fixed C3D8 rings (table, stop). ccx
+(:func:`.numbering.ccx_n2f_groups`), masters the faces of fixed C3D8 rings (table, stop). ccx
 gives a node of a node-based slave surface the area A_ccx (a quarter of every free face of the skirt at the
 node, measured) and the force K A_ccx d, so the slope K = k_c / A_ccx reproduces the model's k_c per node.
 Penalty, ``nlgeom: true``: one GAPUNI element per slave node, from the skirt node to a grounded node at the
@@ -27,7 +27,7 @@ Both decks: C3D8I skirt, circumferential SPRING1 restraint of every table slave 
 N, step 2 repeats N and ramps lambda_max (T, M) with automatic incrementation (maximum increment
 1/increments) and output at the time points j/increments; ``*EL PRINT, ELSET=EBASE`` S (bottom element row).
 Units: model.units ('SI' or 'mm', :mod:`deckbridge.units`); ``** deckbridge-...`` comment lines (SI) carry
-the model's slave table for :mod:`deckbridge.readers.calculix`.
+the model's slave table for :mod:`.reader`.
 """
 
 from __future__ import annotations
@@ -36,15 +36,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import DeckUnsupported
-from ..mesh import SkirtMesh
-from ..model import Model
-from ..numbering.inp import (GapIds, Layout, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas,
-                             ccx_penalty_is_n2f)
-from ..units import scale
-from ..numbering.skirt import mesh_node_ids, mesh_node_index
-from ._env import deck_paths, render
-from .inp_cards import clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context
+from . import RECORD
+from ...errors import DeckUnsupported
+from ...mesh import SkirtMesh
+from ...model import Model
+from ...numbering.inp import Layout
+from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
+from ...units import scale
+from ...numbering.skirt import mesh_node_ids, mesh_node_index
+from ...render._env import deck_paths, render
+from ...render.inp_cards import clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
 MORTAR_HARD = True           # mortar table pair without *SURFACE BEHAVIOR: hard (Lagrange) contact
 MORTAR_FACTOR = 1.0e4        # K_m = MORTAR_FACTOR * E / h1 [Pa/m]: stop gaps, stick slope, LINEAR variant
@@ -61,30 +62,13 @@ MAX_ITER = 60                # *CONTROLS TIME INCREMENTATION I_C (I_0 = 20, I_R 
 MORTAR_FRICTION_SUBSTEPS = 10
 
 
-def forces_nlgeom(model: Model, method: str) -> str | None:
-    """Why the CalculiX ``method`` deck of ``model`` runs NLGEOM although analysis.nlgeom is false, or None.
-
-    None for both decks: the penalty deck is node-to-surface without NLGEOM, and the mortar deck's GAPUNI stop
-    gaps run geometrically linear (measured against the reference Lagrange path: tests/test_reference_vs_ccx.py).
-    Kept as the dialect record's hook (:func:`nlgeom_forced`) should a deck ever have to switch the analysis.
-    """
-    return None
-
-
-def nlgeom_forced(model: Model) -> dict[str, str]:
-    """{deck file name: why it runs NLGEOM although analysis.nlgeom is false} (the dialect record's hook)."""
-    names = dict(zip(("penalty", "mortar"), deck_paths("calculix", model.name, ".")))
-    return {names[m].name: why for m in names if (why := forces_nlgeom(model, m))}
-
-
 def _common(model: Model, lay: Layout, method: str) -> dict:
     mesh = lay.mesh
-    why = forces_nlgeom(model, method)
     return {
         **shared_context(model, lay),
         "model": model,
         "method": method,
-        "step_nlgeom": model.analysis.nlgeom or why is not None, "nlgeom_reason": why or "",
+        "step_nlgeom": model.analysis.nlgeom,
         "r_n": f"{RESIDUAL_TOL:.0e}", "c_n": f"{CORRECTION_TOL:.0e}", "max_iter": MAX_ITER,
         # I_0, I_R, I_P, I_C, I_L, I_G; blank fields keep ccx's defaults for the adaptive force scales
         "time_controls": f"20, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, {MAX_ITER}, 4",
@@ -153,11 +137,11 @@ def check_supported(model: Model) -> None:
     if mu > 0 and getattr(model.contact, "tangential", "springs") != "friction":
         raise DeckUnsupported("calculix", f"contact.friction = {mu:g} with contact.tangential = springs: the CalculiX "
                               "penalty deck writes *FRICTION only when friction carries the shear (tangential = "
-                              "friction); set friction to 0, or leave out the calculix dialect (--dialect)")
+                              "friction); set friction to 0, or leave out the calculix dialect (`dialects`)")
     if mu > 0 and not ccx_penalty_is_n2f(model):
         raise DeckUnsupported("calculix", f"contact.friction = {mu:g} with analysis.nlgeom = true: the CalculiX "
                               "penalty deck is then GAPUNI gaps, which have no friction; set nlgeom to false "
-                              "(node-to-surface contact with *FRICTION), or leave out the calculix dialect (--dialect)")
+                              "(node-to-surface contact with *FRICTION), or leave out the calculix dialect (`dialects`)")
 
 
 def _stick_slopes(mesh: SkirtMesh, group, a_ccx: np.ndarray, rel: float = 1e-6) -> float:
@@ -243,11 +227,11 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     """Write the CalculiX penalty (GAPUNI) and mortar decks into ``outdir``."""
     check_supported(model)
-    paths = dict(zip(("penalty", "mortar"), deck_paths("calculix", model.name, outdir)))
+    paths = dict(zip(("penalty", "mortar"), deck_paths(RECORD, model.name, outdir)))
     out = []
     for method, ctx_fn, tpl in (("penalty", penalty_context, "penalty.inp.j2"),
                                 ("mortar", mortar_context, "mortar.inp.j2")):
-        text = render("calculix", tpl, **ctx_fn(model, mesh))
+        text = render(RECORD.templates, tpl, **ctx_fn(model, mesh))
         p = paths[method]
         p.write_text(text)
         out.append(p)

@@ -30,14 +30,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..dialects import DIALECTS
-from ..errors import DeckbridgeError
-from ._files import inp_deck_units, read_text
-from ._registry import register
-from ..results import with_forces
-from ..units import scale
-from ._checks import checked
-from ._nodemap import locate, slave_areas, surface_of
+from . import RECORD
+from ...errors import DeckbridgeError
+from ...errors import read_text
+from ...readers._files import inp_deck_units
+from ...results import with_forces
+from ...units import scale
+from ...readers._checks import checked
+from ...readers._nodemap import locate, slave_areas, surface_of
 
 _NUM = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[EeDd][-+]?\d+)?"
 _NUM_RE = re.compile(rf"^{_NUM}$")
@@ -153,11 +153,11 @@ def _surface(raw: pd.DataFrame, located: pd.DataFrame) -> np.ndarray:
     return np.where(hint == "", by_model, hint)
 
 
-@register("abaqus_dat", detect=detect)
 @checked(None)
-def read(path: Path, model=None) -> pd.DataFrame:
-    """Read the contact print tables of an Abaqus .dat file into the tidy table."""
-    from ..model import load
+def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
+    """Read the contact print tables of an Abaqus .dat file into the tidy table (``mesh``: ``model``'s, when built)."""
+    from ...mesh import build_mesh
+    from ...model import load
 
     path = Path(path)
     raw = parse(read_text(path), path)
@@ -166,8 +166,10 @@ def read(path: Path, model=None) -> pd.DataFrame:
     bad = sorted(set(raw["step"]) - {1, 2})
     if bad:
         raise DeckbridgeError(f"{str(path)!r}: step {bad[0]} is not in the load path (1 = N, 2 = N + lambda (T, M))")
-    model = model or load(None)
-    located = locate(raw["node"].to_numpy(), model, path)
+    if model is None:
+        model, mesh = load(None), None
+    mesh = mesh if mesh is not None else build_mesh(model)
+    located = locate(raw["node"].to_numpy(), model, path, mesh=mesh)
     u = scale(inp_deck_units(path, model))
     cpress = raw["CPRESS"].to_numpy(float) / u.stress
     copen = (raw["COPEN"].to_numpy(float) / u.length) if "COPEN" in raw else np.full(len(raw), np.nan)
@@ -177,7 +179,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
     lam = np.where(raw["step"].to_numpy() == 1, 0.0, model.steps.lambda_max * raw["fraction"].to_numpy(float))
     surface = _surface(raw, located)
     return with_forces(pd.DataFrame({
-        "source": DIALECTS["abaqus"].source, "method": "lagrange",
+        "source": RECORD.source, "method": "lagrange",
         "step": raw["step"].to_numpy(), "increment": raw["increment"].to_numpy(),
         "load_factor": lam, "node": raw["node"].to_numpy(),
         "surface": surface,
@@ -185,4 +187,4 @@ def read(path: Path, model=None) -> pd.DataFrame:
         "sigma_n_pa": -cpress, "gap_m": copen,
         "status": np.where(is_open, "open", "closed"),
         "origin": [f"{str(path)!r}: line {n}" for n in raw["line"]],      # for the contact-law check
-    }), slave_areas(model, raw["node"].to_numpy(), surface))    # CPRESS x the mesh's tributary area
+    }), slave_areas(model, raw["node"].to_numpy(), surface, mesh))    # CPRESS x the mesh's tributary area
