@@ -5,6 +5,7 @@ comparison and report. Layout of the output folder DIR:
   DIR/reference_penalty/     contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu, wall_stress.csv
                              (reference solver, penalty)
   DIR/reference_lagrange/    the same with Lagrange multipliers
+  DIR/reference_augmented/   the same with the augmented Lagrangian (when asked: ``methods``)
                              (with contact.tangential: friction also friction.csv, deckbridge/friction_table.py)
   DIR/ccx/                   CalculiX jobs and results, <job>.pvd + <job>_NNN.vtu (--with-ccx)
   DIR/report.html, sigma_n.png, discrepancy.csv, summary.json   the comparison
@@ -24,6 +25,7 @@ from typing import Callable
 from .compare import compare_tables
 from .compare.onsets import describe
 from .friction_table import read_friction
+from .methods import LAGRANGE, NAMES, PENALTY
 from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare, replacing
@@ -37,22 +39,23 @@ from .solve import condense_model, solve_system, write_outputs
 from .wall_stress import ccx_wall, reference_section_onset, reference_wall, write_wall
 
 Echo = Callable[[str], None]
-LAYOUT = ("decks", "reference_penalty", "reference_lagrange", "ccx", "report.html", "sigma_n.png",
+LAYOUT = ("decks", *(f"reference_{m}" for m in NAMES), "ccx", "report.html", "sigma_n.png",
           "discrepancy.csv", "summary.json")          # what a job writes into DIR (set aside by a re-run)
+RUN_METHODS = (PENALTY, LAGRANGE)                     # the reference solves of a job unless told otherwise
 
 
 def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo = print,
-            ccx_timeout_s: float = 1800.0) -> dict:
+            ccx_timeout_s: float = 1800.0, methods: tuple[str, ...] = RUN_METHODS) -> dict:
     """Run the main job on ``model`` into ``outdir``, all or nothing; return {'report': path, ...}.
     ``with_ccx`` on a model the CalculiX decks cannot carry is refused (DeckUnsupported) before any work."""
     if with_ccx:
         from .render.calculix import check_supported
         check_supported(model)
     with replacing(outdir, "run", LAYOUT) as out:
-        return _job(model, out, with_ccx, echo, ccx_timeout_s)
+        return _job(model, out, with_ccx, echo, ccx_timeout_s, methods)
 
 
-def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: float) -> dict:
+def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: float, methods=RUN_METHODS) -> dict:
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
     decks = render_all(model, out / "decks", mesh=mesh,
@@ -63,7 +66,7 @@ def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: flo
     echo(f"reference solver: {system.dofs} dofs, {system.n_contacts} contact rows, "
          f"condensed in {time.perf_counter() - t0:.1f} s")
     tables, origins, summaries = [], [], {}
-    for method in ("penalty", "lagrange"):
+    for method in methods:
         df, summary, sol = solve_system(model, mesh, system, method, recover=model.outputs.vtu)
         folder = out / f"reference_{method}"
         lam_s, th_s = reference_section_onset(system, mesh, sol)

@@ -18,7 +18,7 @@ import pandas as pd
 
 import reference_solver as rs
 from reference_solver.recover import path_fields
-from reference_solver.onset import section_onset
+from reference_solver.path import section_onset
 from reference_solver.stress import reference_base_wall
 
 from .azimuth import snap_deg

@@ -64,8 +64,7 @@ from .laws import LAWS, ContactLaw, make_law, register
 from . import augmented  # noqa: F401  (registers the 'augmented' law)
 from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_factorize
 from .loads import distributing_forces
-from .onset import section_onset
-from .path import Increment, Solution, solve_path
+from .path import Increment, Solution, section_onset, solve_path
 from .problem import Problem
 from .system import condense
 from .threads import blas_info, blas_threads, default_threads

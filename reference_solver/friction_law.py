@@ -17,6 +17,7 @@ from .friction import CORNER_RULE, RHO_FACTOR, solve_increment
 from .friction_state import State
 from .onset import SLIDE_TOL
 
+
 QUICK_DEPTH = 2           # Lagrange: cutbacks tried with the direct Newton alone before its fallbacks
 ALGORITHMS = {"penalty": "newton", "lagrange": "semi-smooth-newton", "augmented": "augmented-lagrangian"}
 

@@ -16,7 +16,7 @@ Rows are open when their gap is > 0 and they are not closed.
 
 from __future__ import annotations
 
-from typing import Callable, Mapping
+from typing import Callable
 
 import numpy as np
 
@@ -176,20 +176,18 @@ def group_open(gap: np.ndarray, closed: np.ndarray, groups: list[np.ndarray]) ->
     return np.array([bool(opened[g].all()) for g in groups])
 
 
-def section_onset(system, sol, groups: list[np.ndarray], *, base: Mapping[str, float] | None = None,
-                  ramp: Mapping[str, float] | None = None, tol: float = 1e-9) -> tuple[float | None, int | None]:
+def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[float], tuple],
+                  tol: float = 1e-9) -> tuple[float | None, int | None]:
     """(lambda, group index) of the first load factor of step 2 at which a whole group is open, or
     (None, None) when none opens along ``sol``. ``groups``: row indices (into the contact rows) of each
-    group; ``sol`` the solved path (its method, penalty factor, algorithm); ``base``/``ramp`` as given to
-    ``solve_path`` (defaults the same).
+    group; ``sol`` the solved path; ``state_at(lam)`` the (gap, force, closed) rows of the state at ``lam``
+    (the driver's one-increment path: :func:`reference_solver.path.section_onset`).
 
-    The state at lambda is the end of a one-increment path (path-independent laws: the state itself). The
-    onset is the first root of phi(lambda) = max over groups of (min over the group's rows of m_i),
+    The onset is the first root of phi(lambda) = max over groups of (min over the group's rows of m_i),
     m_i = gap_i - force_i / S_ii (a closed exact row has gap 0 and force > 0; a penalty row's gap is
     negative while closed), continuous and piecewise linear in lambda: Illinois regula falsi, exact once
     the bracket lies in one linear piece, bisection steps as fallback, to ``tol`` on lambda or |phi| <
     1e-12 of its scale."""
-    from .path import solve_path                              # the driver imports this module
     rows2 = np.flatnonzero(sol.step == 2)
     hit = [j for j in rows2 if group_open(sol.gap[j], sol.closed[j], groups).any()]
     if not hit:
@@ -207,9 +205,8 @@ def section_onset(system, sol, groups: list[np.ndarray], *, base: Mapping[str, f
         return np.array([m[g].min() for g in groups])
 
     def state(lam: float):
-        s = solve_path(system, sol.method, sol.k_factor or 1.0, base=base, ramp=ramp, lambda_max=lam,
-                       increments=1, algorithm=sol.algorithm, onset="off", recover=False)
-        return measure(s.gap[-1], s.force[-1], s.closed[-1]), group_open(s.gap[-1], s.closed[-1], groups)
+        gap, force, closed = state_at(lam)
+        return measure(gap, force, closed), group_open(gap, closed, groups)
 
     i_lo = before[-1]
     f_lo = float(measure(sol.gap[i_lo], sol.force[i_lo], sol.closed[i_lo]).max())

@@ -21,6 +21,7 @@ from .errors import ReferenceSolverError, no_equilibrium
 from .friction_state import GrossSlip, NotConverged, State
 from .laws import make_law
 from .onset import first_opening, is_open, reach, widest_open
+from .onset import section_onset as _section_onset
 from .solution import Solution  # noqa: F401  (re-exported: reference_solver.path.Solution)
 from .threads import with_blas_threads
 
@@ -153,3 +154,15 @@ def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
         sol.recover_step_ends(system, law.retained(states))
     sol.wall_time_s = time.perf_counter() - t0
     return sol
+
+
+def section_onset(system, sol: Solution, groups: list[np.ndarray], *, base: Mapping[str, float] | None = None,
+                  ramp: Mapping[str, float] | None = None, tol: float = 1e-9) -> tuple[float | None, int | None]:
+    """The whole-section onset of :func:`reference_solver.onset.section_onset` along ``sol``: (lambda, group
+    index), each state the end of a one-increment path with ``sol``'s method, k-factor and algorithm
+    (``base``/``ramp`` as given to :func:`solve_path`, defaults the same)."""
+    def state_at(lam: float):
+        s = solve_path(system, sol.method, sol.k_factor or 1.0, base=base, ramp=ramp, lambda_max=lam, increments=1,
+                       algorithm=sol.algorithm, onset="off", recover=False)
+        return s.gap[-1], s.force[-1], s.closed[-1]
+    return _section_onset(system, sol, groups, state_at, tol)

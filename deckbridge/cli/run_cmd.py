@@ -2,6 +2,7 @@
 
 import click
 
+from ..methods import NAMES
 from ._common import main, model_options
 
 
@@ -10,10 +11,13 @@ from ._common import main, model_options
 @click.option("-o", "--out", "outdir", default="jar-report", show_default=True,
               type=click.Path(), help="Output folder.")
 @click.option("--with-ccx", is_flag=True, help="Also run CalculiX on its penalty and mortar decks.")
-def run_cmd(model, outdir, with_ccx):
-    """Write the decks, solve with penalty and Lagrange, compare and write the report."""
+@click.option("--method", "methods", type=click.Choice(NAMES), multiple=True,
+              help="Reference solves (repeatable) [default: penalty and lagrange].")
+def run_cmd(model, outdir, with_ccx, methods):
+    """Write the decks, solve with penalty and Lagrange (or --method ...), compare and write the report."""
     from ..job import run_job                # decks, solver, report: imported when the job runs
     from ..solve import penalty_factor
 
     penalty_factor(model)                    # the model's own penalty in range, before any work
-    run_job(model, outdir, with_ccx=with_ccx, echo=click.echo)
+    run_job(model, outdir, with_ccx=with_ccx, echo=click.echo, **({"methods": tuple(dict.fromkeys(methods))}
+                                                                  if methods else {}))

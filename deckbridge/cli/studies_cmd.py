@@ -10,6 +10,7 @@ import click
 
 from .. import limits
 from ..errors import DeckbridgeError
+from ..methods import K_METHODS, LAGRANGE, NAMES, PENALTY
 from ..outdir import lock, remove_stale, staged
 from ._common import main, model_options
 
@@ -151,8 +152,8 @@ def _f(v) -> str:
 
 @main.command("liftoff")
 @model_options
-@click.option("--method", type=click.Choice(["penalty", "lagrange", "both"]), default="both", show_default=True,
-              help="Contact method(s); with both, the difference is printed.")
+@click.option("--method", type=click.Choice([*NAMES, "both"]), default="both", show_default=True,
+              help="Contact method (deckbridge.methods) or both (penalty and lagrange, their difference printed).")
 @click.option("--tol", type=float, default=1e-3, show_default=True,
               help="Tolerance on the critical load factor (absolute, in lambda).")
 @click.option("--k-factor", "k_factor", type=float, default=None,
@@ -164,9 +165,9 @@ def liftoff_cmd(model, method, tol, k_factor, outdir):
     from ..studies.liftoff import critical_load, format_table
     from ..studies.metrics import rnd
 
-    methods = ("penalty", "lagrange") if method == "both" else (method,)
-    if k_factor is not None and "penalty" not in methods:
-        raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method penalty or both")
+    methods = (PENALTY, LAGRANGE) if method == "both" else (method,)
+    if k_factor is not None and not any(m in K_METHODS for m in methods):
+        raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method {', '.join(K_METHODS)} or both")
     limits.check_liftoff_tol(tol, model.steps.lambda_max)
     res = critical_load(model, methods, tol=tol, k_factor=1.0 if k_factor is None else k_factor)
     click.echo(format_table(res))
