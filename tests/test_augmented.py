@@ -76,3 +76,26 @@ def test_cli_solve_and_liftoff_accept_augmented(tmp_path):
     assert "augmented (k x 1)" in r.output
     assert float(r.output.splitlines()[1].split()[4]) == pytest.approx(float(lag.output.splitlines()[1].split()[1]),
                                                                        abs=1e-4)
+
+
+def test_sweep_with_augmented_gives_a_flat_curve_against_k(tmp_path):
+    from deckbridge.studies.sweep import run_sweep
+    model = load(None, COARSE)
+    out = run_sweep(model, [0.1, 10.0], tmp_path / "sweep", progress=False, report=False, augmented=True)
+    m = out["summary"]["meshes"][0]
+    pen = [d["max_rel_diff"] for d in m["penalty"]]
+    aug = [d["max_rel_diff"] for d in m["augmented"]]
+    assert max(aug) <= 1e-6 and min(pen) > 1e-2                     # penalty hangs on k, augmented does not
+    assert [d["liftoff_load_factor"] for d in m["augmented"]] == pytest.approx(
+        [m["lagrange"]["liftoff_load_factor"]] * 2, rel=1e-6)
+
+
+def test_run_accepts_augmented_as_a_reference_method(tmp_path):
+    from deckbridge.job import run_job
+    model = load(None, COARSE + ["outputs.vtu=false"])
+    run_job(model, tmp_path / "run", echo=lambda line: None, methods=("lagrange", "augmented"))
+    lag = json.loads((tmp_path / "run" / "reference_lagrange" / "summary.json").read_text())
+    aug = json.loads((tmp_path / "run" / "reference_augmented" / "summary.json").read_text())
+    assert aug["method"] == "augmented" and aug["augmented"]["augmentations"] > 0
+    assert aug["liftoff_load_factor"] == pytest.approx(lag["liftoff_load_factor"], rel=1e-6)
+    assert aug["min_sigma_n_pa"] == pytest.approx(lag["min_sigma_n_pa"], rel=1e-6)

@@ -46,8 +46,10 @@ DEFAULT_K = "0.01,0.1,1,10,100,1000"
 @click.option("--executor", type=click.Choice(["auto", "local", "dask"]), default="auto", show_default=True,
               help="local: condense here, cases on worker processes forked from this one (no cluster); dask: a "
                    "Dask cluster (local, or --scheduler); auto: local for one condensation (one mesh), else dask.")
+@click.option("--augmented", is_flag=True,
+              help="Also solve with the augmented Lagrangian at every k-factor (its curve against k is flat).")
 def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, load_factors, open_stiffness,
-              scheduler, workers, strategy, executor):
+              scheduler, workers, strategy, executor, augmented):
     """Penalty sensitivity of MODEL: every k-factor (and mesh, and grid point) against the Lagrange
     reference, with the paper's two claims judged per variant and quantity."""
     from ..studies.cases import mesh_variants, parse_grid_options, parse_k_factors, parse_mesh_options
@@ -71,7 +73,7 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
         with open_executor(executor, scheduler, workers, condensations) as client:
             out = run_sweep(model, ks, outdir, meshes=meshes, tol=tol, load_factors=list(load_factors) or None,
                             open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True,
-                            grid=grid, claim_load_factor=claim_lf)
+                            grid=grid, claim_load_factor=claim_lf, augmented=augmented)
     s, run = out["summary"], out["run"]
     click.echo(f"{len(run['computed'])} cases computed, {len(run['reused'])} reused from {Path(outdir) / 'cases'}"
                + (f", {len(run['failed_now'])} failed" if run["failed_now"] else "")
@@ -90,6 +92,10 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
             click.echo(f"  {d['k_factor']:>9g} {d['max_abs_diff_pa'] / 1e6:>14.3f} {d['max_rel_diff'] * 100:>10.2f} "
                        f"{d['liftoff_zone_iou']:>6.3f} {d['peak_compression_pa'] / 1e6:>9.2f} "
                        f"{_f(d['liftoff_load_factor']):>8}  {'yes' if d['within_tol'] else 'no'}")
+        for d in m.get("augmented", []):
+            click.echo(f"  {d['k_factor']:>9g}  augmented: " + (f"failed: {d['error']}" if d.get("error") else
+                       f"{d['max_abs_diff_pa'] / 1e6:.3g} MPa ({d['max_rel_diff'] * 100:.2g} % of peak) from Lagrange, "
+                       f"liftoff {_f(d['liftoff_load_factor'])}"))
         if not m.get("max_rel_diff_never_grows_with_k"):
             click.echo("  note: max |dsig| grows again at large k (open gaps carry k_open x gap; "
                        "try --open-stiffness fixed or a smaller contact.penalty.open_ratio)")
