@@ -48,7 +48,7 @@ def run(nt: int, nz: int, nr: int) -> dict:
         before = dict(shifted.COUNTS)
         t = time.perf_counter()
         sol = rs.solve_path(system, method, kf, lambda_max=model.steps.lambda_max,
-                            increments=model.steps.increments, recover=False)
+                            increments=model.steps.increments, recover=False, liftoff_surface="table")
         wall = time.perf_counter() - t
         out[name] = {"path_s": wall, "path_over_factor": wall / out["factor_s"],
                      "dense_factorisations": shifted.COUNTS["factorisations"] - before["factorisations"],

@@ -19,7 +19,7 @@ API
     ``tangential='friction'`` a ``FrictionSystem`` (tangential dofs retained too; system.py).
     ``factorize(K) -> solve(B)`` is injectable (:func:`cholmod_factorize` default, :func:`splu_factorize`).
 ``solve_path(system, method='penalty'|'lagrange'|'augmented', k_factor=1.0, base={'N': 1}, ramp={'T': 1, 'M': 1},
-             lambda_max=1.0, increments=10, targets=None, algorithm=None, liftoff_surface='table', ...) -> Solution``
+             lambda_max=1.0, increments=10, targets=None, algorithm=None, liftoff_surface=None, ...) -> Solution``
     The one load-path driver (path.py): step 1 applies ``base``; step 2 ``base + lambda * ramp`` through
     ``targets`` (default [lambda_max]), ``increments`` per leg, each increment one call of the contact law
     ``METHODS`` names (laws.py: ``LAWS``, ``make_law``, ``register``). Penalty: bilinear gap springs

@@ -62,7 +62,7 @@ def _advance(law, prev: State, co: Callable, lam: float, lam_prev: float, depth:
 def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
                base: Mapping[str, float] | None = None, ramp: Mapping[str, float] | None = None,
                lambda_max: float = 1.0, increments: int = 10, targets: Sequence[float] | None = None,
-               algorithm: str | None = None, liftoff_surface: str | None = "table", liftoff_tol: float = 1e-6,
+               algorithm: str | None = None, liftoff_surface: str | None = None, liftoff_tol: float = 1e-6,
                onset: str = "auto", recover: bool = True, on_increment: Callable[[int, int, float], None] | None = None,
                on_gross_slip: str = "raise", corner: str | None = None) -> Solution:
     """Run step 1 (``base``) and step 2 (``base + lambda * ramp``) with the contact law ``method``.
