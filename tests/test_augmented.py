@@ -99,3 +99,21 @@ def test_run_accepts_augmented_as_a_reference_method(tmp_path):
     assert aug["method"] == "augmented" and aug["augmented"]["augmentations"] > 0
     assert aug["liftoff_load_factor"] == pytest.approx(lag["liftoff_load_factor"], rel=1e-6)
     assert aug["min_sigma_n_pa"] == pytest.approx(lag["min_sigma_n_pa"], rel=1e-6)
+
+
+def test_augmented_with_friction_where_it_converges():
+    """Friction (24 x 6 x 2, mu = 0.2) at k x 100: step 1 equals the exact (semi-smooth Newton) Lagrange
+    friction to round-off; along the path 6.7e-4 of the peak at lambda = 0.25 and 2e-8 at lambda = 1 (measured:
+    the augmented friction iterations are not the Lagrange ones, and stick states can differ in between).
+    At k x 1 they do not converge and say so in one line."""
+    model = load(None, ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=2", "contact.friction=0.2",
+                        "contact.tangential=friction"])
+    mesh, system = condense_model(model)
+    lag = rs.solve_path(system, "lagrange", increments=4, recover=False, liftoff_surface="table")
+    aug = rs.solve_path(system, "augmented", 100.0, increments=4, recover=False, liftoff_surface="table")
+    peak = np.abs(lag.force).max()
+    err = np.abs(aug.force - lag.force).max(axis=1) / peak
+    assert err[0] <= 1e-9 and err.max() <= 1e-3 and err[-1] <= 1e-6
+    assert aug.augmentations[2:].min() >= 1 and aug.penetration.max() <= 1e-9
+    with pytest.raises(rs.ReferenceSolverError):
+        rs.solve_path(system, "augmented", 1.0, increments=4, recover=False)
