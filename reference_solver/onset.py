@@ -116,11 +116,11 @@ def first_opening(law, run: Callable, lo: tuple, hi: tuple, back: tuple | None, 
     c0 = law.problem.contact_clearance
     (a, a_st), (b, b_st) = lo, hi
     if exact and not law.stateful:
-        ev = law.track(a_st, a, b, dcoeffs, watch)
-        delta = min(1e-7, 0.1 * tol) * scale
+        check = getattr(law, "onset_check", None)            # a law whose states are the exact ones only to a
+        ev = law.track(a_st if check is None else check(a_st, co(a)), a, b, dcoeffs, watch)   # tolerance: tracks
+        delta = min(1e-7, 0.1 * tol) * scale                  # and checks on the exact problem it solves
         if ev is not None and a < ev[0] - delta and ev[0] + delta < b:
-            check = getattr(law, "onset_check", None)        # a law whose states are the exact ones only to a
-            if check is not None:                             # tolerance checks on the exact problem it solves
+            if check is not None:
                 below, above = check(a_st, co(ev[0] - delta)), check(a_st, co(ev[0] + delta))
             else:
                 below, above = run(a_st, ev[0] - delta, None), run(a_st, ev[0] + delta, None)

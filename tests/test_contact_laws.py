@@ -69,7 +69,7 @@ def test_augmented_lagrangian_reaches_the_exact_lagrange_forces_at_any_epsilon(k
     assert np.array_equal(aug.closed, lag.closed)
     assert aug.penetration.max() <= aug.penetration_tol
     assert aug.penetration_tol == pytest.approx(augmented.PENETRATION * np.sqrt(np.median(system.problem.contact_area)))
-    assert aug.liftoff_load_factor == pytest.approx(lag.liftoff_load_factor, rel=1e-6)
+    assert aug.liftoff_load_factor == pytest.approx(lag.liftoff_load_factor, rel=1e-9)   # tracked on the exact problem
     assert aug.augmentations[aug.step == 2][1:].min() >= 1
     pen = _path(system, "penalty", kf)                          # plain penalty at the same epsilon is off
     assert np.abs(pen.force - lag.force).max() > 100 * np.abs(aug.force - lag.force).max()
