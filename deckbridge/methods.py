@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import reference_solver as rs
 
+from .errors import DeckbridgeError
 
 @dataclass(frozen=True)
 class Method:
@@ -45,9 +46,8 @@ K_METHODS: tuple[str, ...] = tuple(m for m in NAMES if METHODS[m].uses_k)   # ta
 
 
 def method(name: str) -> Method:
-    """The method ``name`` (KeyError-free: a DeckbridgeError naming the known ones)."""
+    """The method ``name``; an unknown name is a one-line DeckbridgeError naming the known ones."""
     if name not in METHODS:
-        from .errors import DeckbridgeError
         raise DeckbridgeError(f"method = {name!r}: must be one of {', '.join(NAMES)}")
     return METHODS[name]
 
