@@ -23,7 +23,9 @@ import pandas as pd
 import reference_solver as rs
 
 from .errors import DeckbridgeError
+from . import summary_keys
 from .friction_table import FRICTION_CSV, friction_table
+from .jsonable import json_clean
 from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
 from .model import Model, ModelError
@@ -270,12 +272,12 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
         "dofs": int(3 * p.n_nodes), "reduced_dofs": int(system.dofs),
         "condensed_dofs": int(system.info["retained"]), "contact_rows": int(p.n_contacts),
         "liftoff_load_factor": sol.liftoff_load_factor, "liftoff_theta_deg": lift_theta,
-        "liftoff_load_factor_beam_theory": model.beam_theory_liftoff(),
+        summary_keys.BEAM_THEORY_LIFTOFF_LOAD_FACTOR: model.beam_theory_liftoff(),
         "min_sigma_n_pa": float(df["sigma_n_pa"].min()), "max_sigma_n_pa": float(df["sigma_n_pa"].max()),
         "reaction_force_n": {s: v[0].tolist() for s, v in react.items()},
         "reaction_moment_nm": {s: v[1].tolist() for s, v in react.items()},
         "penalty_k": pen,
-        "augmented": _augmented_summary(sol),
+        summary_keys.AUGMENTED: _augmented_summary(sol),
         "k_tangent": _stats(p.spring_k),
         "friction": sol.friction_check(p, p.friction) if p.friction > 0 else None,
         "tangential": p.tangential,
@@ -323,7 +325,7 @@ def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, 
     names = ["contact.csv", "summary.json"]
     with staged(outdir) as stage:
         df.to_csv(stage / "contact.csv", index=False)
-        (stage / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        (stage / "summary.json").write_text(json.dumps(json_clean(summary), indent=2) + "\n")
         fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)       # only with contact.tangential: friction
         if fric is not None:
             fric.to_csv(stage / FRICTION_CSV, index=False, float_format="%.17g")
@@ -346,3 +348,7 @@ def run_solve(model: Model, method: str, outdir: str | Path, k_factor: float = 1
                                            on_increment=on_increment, recover=model.outputs.vtu)
     summary["wall_time_s"] = time.perf_counter() - t0
     return write_outputs(outdir, model, system, sol, df, summary, mesh), summary
+
+
+from .api_callable import make_callable  # noqa: E402  (deckbridge.solve(model, ...) is the API call)
+make_callable(__name__)

@@ -15,9 +15,6 @@ from ._common import main, model_options
               help="Reference solves (repeatable) [default: penalty and lagrange].")
 def run_cmd(model, outdir, with_ccx, methods):
     """Write the decks, solve with penalty and Lagrange (or --method ...), compare and write the report."""
-    from ..job import run_job                # decks, solver, report: imported when the job runs
-    from ..solve import penalty_factor
+    from ..api import run                    # decks, solver, report: imported when the job runs
 
-    penalty_factor(model)                    # the model's own penalty in range, before any work
-    run_job(model, outdir, with_ccx=with_ccx, echo=click.echo, **({"methods": tuple(dict.fromkeys(methods))}
-                                                                  if methods else {}))
+    run(model, outdir, with_ccx=with_ccx, echo=click.echo, **({"methods": methods} if methods else {}))
