@@ -56,7 +56,7 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
     from ..studies.cluster import executor_kind, open_executor
     from ..studies.sweep import check_options, run_sweep
 
-    _check_sizes(k_factors, mesh_opts, load_factors, workers, grid_opts)   # counted before anything is expanded
+    _check_sizes(k_factors, mesh_opts, load_factors, workers, grid_opts, augmented)   # counted before any expansion
     ks = parse_k_factors(k_factors)
     meshes = parse_mesh_options(mesh_opts)
     grid = parse_grid_options(grid_opts)
@@ -135,7 +135,7 @@ def _mpa(v) -> str:
     return "-" if v is None else f"{v / 1e6:.3g}"
 
 
-def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=()) -> None:
+def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=(), augmented: bool = False) -> None:
     """Caps on the size of a study, from the option text alone (nothing expanded yet)."""
     n_k = str(k_factors).count(",") + 1
     limits.check_count("--k-factors", n_k, limits.MAX_K_FACTORS, "k-factors")
@@ -147,7 +147,8 @@ def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=())
     for opt in grid_opts:
         n_grid *= opt.count(",") + 1
         limits.check_count("--grid", n_grid, limits.MAX_GRID_CASES, "grid cases")
-    limits.check_count("--k-factors x --mesh x --grid", n_grid * n_mesh * (n_k + 1), limits.MAX_CASES, "cases")
+    per_variant = (2 if augmented else 1) * n_k + 1           # Lagrange, penalty (and augmented) per k-factor
+    limits.check_count("--k-factors x --mesh x --grid", n_grid * n_mesh * per_variant, limits.MAX_CASES, "cases")
     limits.check_count("--load-factor", len(load_factors), limits.MAX_LOAD_FACTORS, "load factors")
     limits.check_workers(workers)
 
