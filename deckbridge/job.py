@@ -5,6 +5,7 @@ comparison and report. Layout of the output folder DIR:
   DIR/reference_penalty/     contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu, wall_stress.csv
                              (reference solver, penalty)
   DIR/reference_lagrange/    the same with Lagrange multipliers
+  DIR/reference_augmented/   the same with the augmented Lagrangian (when asked: ``methods``)
                              (with contact.tangential: friction also friction.csv, deckbridge/friction_table.py)
   DIR/<run folder>/          with ``solvers``: each dialect's jobs and results, run by its record's runner
                              (CalculiX: DIR/ccx/, plus <job>.pvd + <job>_NNN.vtu; MYSTRAN: DIR/mystran/)
@@ -29,6 +30,7 @@ from .compare import compare_tables
 from .compare.onsets import describe
 from .dialects import DIALECTS
 from .friction_table import friction_table
+from .methods import LAGRANGE, NAMES, PENALTY
 from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare, replacing
@@ -42,20 +44,25 @@ from .solve import condense_model, result_mesh, solve_system, write_outputs
 from .wall_stress import reference_section_onset, reference_wall, write_wall
 
 Echo = Callable[[str], None]
+RUN_METHODS = (PENALTY, LAGRANGE)                     # the reference solves of a job unless told otherwise
 
 
 def layout() -> tuple[str, ...]:
-    """What a job writes into DIR (set aside by a re-run): every runnable dialect's run folder included."""
-    return ("decks", "reference_penalty", "reference_lagrange", *sorted({d.folder for d in DIALECTS.values() if d.runner}),
+    """What a job writes into DIR (set aside by a re-run): every method's reference folder and every runnable
+    dialect's run folder included."""
+    return ("decks", *(f"reference_{m}" for m in NAMES),
+            *sorted({d.folder for d in DIALECTS.values() if d.runner}),
             "report.html", "sigma_n.png", "discrepancy.csv", "summary.json")
 
 
 def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo = print,
-            ccx_timeout_s: float = 1800.0, solvers: Sequence[str] = ()) -> dict:
+            ccx_timeout_s: float = 1800.0, solvers: Sequence[str] = (),
+            methods: tuple[str, ...] = RUN_METHODS) -> dict:
     """Run the main job on ``model`` into ``outdir``, all or nothing; return {'report': path, ...}.
     ``solvers``: dialects whose solver runs on their decks too (``with_ccx``: calculix among them);
-    ``ccx_timeout_s``: the time limit of each of their jobs [s]. A dialect that cannot run the model is
-    refused (DeckUnsupported) before any work."""
+    ``ccx_timeout_s``: the time limit of each of their jobs [s]; ``methods``: the reference solves (method
+    names of :mod:`deckbridge.methods`). A dialect that cannot run the model is refused (DeckUnsupported)
+    before any work."""
     chosen = [DIALECTS[n] for n in dict.fromkeys([*solvers, *(["calculix"] if with_ccx else [])])]
     no_runner = [d.name for d in chosen if not d.runner]
     if no_runner:
@@ -65,10 +72,10 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
     for d in chosen:
         d.check_run(model)
     with replacing(outdir, "run", layout()) as out:
-        return _job(model, out, chosen, echo, ccx_timeout_s)
+        return _job(model, out, chosen, echo, ccx_timeout_s, methods)
 
 
-def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float) -> dict:
+def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float, methods=RUN_METHODS) -> dict:
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
     decks = render_all(model, out / "decks", mesh=mesh,
@@ -79,7 +86,7 @@ def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float) ->
     echo(f"reference solver: {system.dofs} dofs, {system.n_contacts} contact rows, "
          f"condensed in {time.perf_counter() - t0:.1f} s")
     tables, origins, summaries = [], [], {}
-    for method in ("penalty", "lagrange"):
+    for method in methods:
         df, summary, sol = solve_system(model, mesh, system, method, recover=model.outputs.vtu)
         folder = out / f"reference_{method}"
         lam_s, th_s = reference_section_onset(system, mesh, sol)

@@ -19,7 +19,7 @@ import pandas as pd
 
 import reference_solver as rs
 from reference_solver.recover import path_fields
-from reference_solver.section_onset import section_onset
+from reference_solver.path import section_onset
 
 from .azimuth import snap_deg
 from .base_wall import reference_base_wall

@@ -20,7 +20,7 @@ from deckbridge.solve import condense_model, reactions, solve_system
 from deckbridge.studies.liftoff import critical_load
 from deckbridge.dialects.calculix.el_stress import ccx_wall
 from deckbridge.wall_stress import azimuth_groups, reference_section_onset, reference_wall
-from reference_solver.section_onset import group_open
+from reference_solver.onset import group_open
 
 needs_ccx = pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
 SMALL = ["mesh.n_theta=32", "mesh.n_z=6", "mesh.n_r=2"]

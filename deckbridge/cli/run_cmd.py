@@ -3,6 +3,7 @@
 import click
 
 from ..dialects import runnable
+from ..methods import NAMES
 from ._common import as_flags, main, model_options
 
 
@@ -14,8 +15,11 @@ from ._common import as_flags, main, model_options
               help=f"Also run this dialect's solver on its decks and compare its results (repeatable; "
                    f"{', '.join(runnable())}).")
 @click.option("--with-ccx", is_flag=True, help="Same as --with calculix: CalculiX on its penalty and mortar decks.")
-def run_cmd(model, outdir, solvers, with_ccx):
-    """Write the decks, solve with penalty and Lagrange, compare and write the report."""
+@click.option("--method", "methods", type=click.Choice(NAMES), multiple=True,
+              help="Reference solves (repeatable) [default: penalty and lagrange].")
+def run_cmd(model, outdir, solvers, with_ccx, methods):
+    """Write the decks, solve with penalty and Lagrange (or --method ...), compare and write the report."""
     from ..api import run                    # decks, solver, report: imported when the job runs
 
-    run(model, outdir, with_ccx=with_ccx, solvers=solvers, echo=lambda line: click.echo(as_flags(line)))
+    run(model, outdir, with_ccx=with_ccx, solvers=solvers, echo=lambda line: click.echo(as_flags(line)),
+        **({"methods": methods} if methods else {}))

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 from ..errors import DeckbridgeError
 from ..model import MeshSpec, Model, parse_override
+from ..methods import AUGMENTED, LAGRANGE, METHODS, PENALTY, case_label
 
 CASE_FORMAT = 2                      # bump when the stored case content changes meaning (2: Lagrange with
                                      # k_t following k_n has rigid springs, the limit of its penalty cases)
@@ -100,20 +101,20 @@ class Case:
     @property
     def spec(self) -> dict:
         """Everything that defines the case's result (stored with it and hashed into its id)."""
-        pen = self.method == "penalty"
+        pen = self.method == PENALTY
         return {"format": CASE_FORMAT, "model": self.mesh.model.to_dict(), "method": self.method,
-                "k_factor": self.k_factor if pen else None,
+                "k_factor": self.k_factor if METHODS[self.method].uses_k else None,
                 "open_stiffness": self.open_stiffness if pen else None}
 
     @property
     def case_id(self) -> str:
-        tag = f"_k{_kstr(self.k_factor)}" if self.method == "penalty" else ""
+        tag = f"_k{_kstr(self.k_factor)}" if METHODS[self.method].uses_k else ""
         return f"{self.mesh.label}_{self.method}{tag}_{_hash(self.spec)}"
 
     @property
     def label(self) -> str:
-        """Curve label in comparisons: 'lagrange' or 'penalty k=0.01'."""
-        return "lagrange" if self.method == "lagrange" else f"penalty k={self.k_factor:.12g}"
+        """Curve label in comparisons: 'lagrange', 'penalty k=0.01' or 'augmented k=0.01'."""
+        return case_label(self.method, self.k_factor)
 
 
 def parse_k_factors(text: str | None, option: str = "`k_factors`") -> list[float]:
@@ -216,12 +217,16 @@ def _grid_value(model: Model, key: str):
     return node
 
 
-def sweep_cases(variants: list[MeshVariant], k_factors: list[float], open_stiffness: str = "scaled") -> list[Case]:
-    """Per variant: the Lagrange reference, then penalty at every k-factor (ascending)."""
+def sweep_cases(variants: list[MeshVariant], k_factors: list[float], open_stiffness: str = "scaled",
+                augmented: bool = False) -> list[Case]:
+    """Per variant: the Lagrange reference, then penalty at every k-factor (ascending); with ``augmented``
+    also the augmented Lagrangian at every k-factor (its curve against k: flat)."""
     if open_stiffness not in OPEN_STIFFNESS:
         raise DeckbridgeError(f"`open_stiffness` = {open_stiffness!r}: must be one of {', '.join(OPEN_STIFFNESS)}")
     cases = []
     for v in variants:
-        cases.append(Case(v, "lagrange"))
-        cases += [Case(v, "penalty", float(k), open_stiffness) for k in sorted(k_factors)]
+        cases.append(Case(v, LAGRANGE))
+        cases += [Case(v, PENALTY, float(k), open_stiffness) for k in sorted(k_factors)]
+        if augmented:
+            cases += [Case(v, AUGMENTED, float(k)) for k in sorted(k_factors)]
     return cases
