@@ -80,7 +80,7 @@ DIALECTS: dict[str, Dialect] = {d.name: d for d in (
             ("{name}_lagrange.inp",),
             "Abaqus/Standard, master/slave Lagrange contact (not run here: no Abaqus)"),
     Dialect("calculix", "deckbridge.render.calculix:write", "calculix", "calculix", "ccx",
-            ("{name}_ccx_penalty.inp", "{name}_ccx_lagrange.inp"),
+            ("{name}_ccx_penalty.inp", "{name}_ccx_lagrange.inp", "{name}_ccx_f2f.inp"),
             "CalculiX 2.20: penalty deck (node-to-surface LINEAR, or GAPUNI with NLGEOM) and mortar (Lagrange) "
             "deck, run by ccx",
             runner="deckbridge.external.ccx_run", nlgeom_forced_by="deckbridge.render.calculix:nlgeom_forced"),

@@ -53,6 +53,7 @@ from ..errors import InputError
 LAW_REL = 1e-3
 GAP_FLOOR = 1e-8          # times the largest |r| of the table (1 m without radii) [m]
 LAGRANGE_METHODS = ("lagrange", "mortar")
+WEIGHTED_METHODS = ("mortar", "f2f")      # laws on face-weighted gaps (ccx mortar, ccx face-to-face penalty)
 _STATE = ["source", "method", "step", "increment"]
 EXTRA = ("origin", "preload_pa", "law_gap_m")     # reader columns only this check uses
 
@@ -101,8 +102,9 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
     with np.errstate(invalid="ignore"):
         closed = (gap < -tol_p) | (lagrange & (gap <= tol_g))
         opened = gap > tol_g
-        if lagrange.any() and "theta_deg" in df.columns:   # mortar: its law holds for weighted gaps
-            opened &= ~lagrange | (_neighbourhood_gap(df, gap, group) > tol_g)
+        weighted = lagrange | np.isin(method, WEIGHTED_METHODS)
+        if weighted.any() and "theta_deg" in df.columns:   # mortar, face-to-face: laws on weighted gaps
+            opened &= ~weighted | (_neighbourhood_gap(df, gap, group) > tol_g)
         tension, compression = s > tol_s, s < -tol_s
     live = method != "linear"
     rules = [
