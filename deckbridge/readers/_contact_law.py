@@ -11,8 +11,9 @@ gaps), a row is refused when
   or, in a Lagrange-type result (method ``lagrange`` or ``mortar``), not open (gap <= max(LAW_REL * g,
   floor): a Lagrange contact is closed at gap 0);
 - it is in compression (sigma_n < -LAW_REL * peak) while open (gap > max(LAW_REL * g, floor)); for a
-  Lagrange-type (mortar) row, while its whole neighbourhood is open (its own azimuth and the two beside it:
-  the mortar law constrains weighted gaps, :func:`_neighbourhood_gap`).
+  Lagrange-type (mortar) row or a ccx face-to-face penalty row (method ``f2f``), while its whole
+  neighbourhood is open (its own azimuth and the two beside it: these laws act on face-weighted gaps, a
+  half-closed face hands force to its open node, :func:`_neighbourhood_gap`).
 
 The gap judged is the solver's own where the reader has it (column ``law_gap_m``: ccx's ``*CONTACT PRINT``
 CDIS normal of a node-to-surface penalty row, printed from the same contact element and solution as its
