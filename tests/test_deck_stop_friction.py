@@ -67,6 +67,8 @@ def test_calculix_stop_frictionless(tmp_path):
     assert {f for _, m, f in pen if m == "MASTER_TABLE"} == {MU}
     # mortar: the table pair only (its stop is not a contact pair)
     assert {(m, f) for _, m, f in contact_friction(paths[1])} == {("MASTER_TABLE", MU)}
+    # face-to-face: the table pair(s) only, its stop is GAPUNI gaps
+    assert {(m, f) for _, m, f in contact_friction(paths[2])} == {("MASTER_TABLE", MU)}
 
 
 def test_decks_leaves_out_mystran_with_friction(tmp_path):
