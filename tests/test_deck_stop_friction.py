@@ -81,7 +81,7 @@ def test_decks_leaves_out_mystran_with_friction(tmp_path):
     assert "note: mystran deck: contact.tangential = friction" in res.output
     names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
     assert names == ["JAR_ccx_f2f.inp", "JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp",
-                     "JAR_model.vtu", "JAR_penalty.bdf"]
+                     "JAR_model.vtu", "JAR_penalty.bdf", "JAR_surface.bdf"]
     # naming the dialect that cannot carry the model is a one-line refusal, nothing written
     res = CliRunner().invoke(main, ["decks", "--set", f"contact.friction={MU}", "--set",
                                     "contact.tangential=friction", "--dialect", "mystran", "-o",
