@@ -69,6 +69,8 @@ def test_calculix_stop_frictionless(tmp_path):
     assert {f for _, m, f in pen if m == "MASTER_TABLE"} == {MU}
     # mortar: the table pair only (its stop is not a contact pair)
     assert {(m, f) for _, m, f in contact_friction(paths[1])} == {("MASTER_TABLE", MU)}
+    # face-to-face: the table pair(s) only, its stop is GAPUNI gaps
+    assert {(m, f) for _, m, f in contact_friction(paths[2])} == {("MASTER_TABLE", MU)}
 
 
 def test_decks_leaves_out_mystran_with_friction(tmp_path):
@@ -80,8 +82,8 @@ def test_decks_leaves_out_mystran_with_friction(tmp_path):
     assert res.exit_code == 0, res.output
     assert "note: mystran deck: contact.tangential = friction" in res.output
     names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
-    assert names == ["JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp", "JAR_model.vtu",
-                     "JAR_penalty.bdf"]
+    assert names == ["JAR_ccx_f2f.inp", "JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp",
+                     "JAR_model.vtu", "JAR_penalty.bdf", "JAR_surface.bdf"]
     # naming the dialect that cannot carry the model is a one-line refusal, nothing written
     res = CliRunner().invoke(main, ["decks", "--set", f"contact.friction={MU}", "--set",
                                     "contact.tangential=friction", "--dialect", "mystran", "-o",

@@ -62,7 +62,7 @@ def _flip_first(dat, head: str, node: int, col: int = 1) -> int:
 def test_real_files_read_clean(jobs):
     _, folder = jobs
     df = read(folder)
-    assert set(df["method"]) == {"penalty", "mortar"}
+    assert set(df["method"]) == {"penalty", "mortar", "f2f"}
     assert "origin" not in df.columns
 
 

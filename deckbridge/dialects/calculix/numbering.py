@@ -15,7 +15,7 @@ from ...model import Model
 from ...numbering.inp import Layout, layout
 from ...numbering.skirt import mesh_node_ids
 
-CCX_MASTERS = {"penalty": (), "mortar": ("table",), "penalty_n2f": ("table", "stop")}   # master rings
+CCX_MASTERS = {"penalty": (), "mortar": ("table",), "f2f": (), "penalty_n2f": ("table", "stop")}   # master rings
 
 
 def ccx_penalty_is_n2f(model: Model) -> bool:
@@ -99,7 +99,8 @@ class GapIds:
 
 
 def ccx_gaps(model: Model, mesh: SkirtMesh, method: str, lay: Layout | None = None) -> GapIds:
-    """Gaps of the CalculiX ``method`` deck: every slave (table, stop) for 'penalty', the stop for 'mortar'.
+    """Gaps of the CalculiX ``method`` deck: every slave (table, stop) for 'penalty', the stop for 'mortar'
+    and 'f2f'.
 
     Grounded nodes follow the master rings; gap elements follow the SPRING1 restraints.
     """

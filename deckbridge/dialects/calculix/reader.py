@@ -81,7 +81,7 @@ def _jobs_in(folder: Path) -> list[Path]:
 
 # --- assembly -----------------------------------------------------------------------------------------
 def _method_of(stem: Path, job: dict) -> str:
-    if job.get("method") in ("penalty", "mortar"):
+    if job.get("method") in ("penalty", "mortar", "f2f"):
         return job["method"]
     name = stem.name.lower()
     if "lagrange" in name or "mortar" in name:
@@ -163,7 +163,8 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
         sigmas, origins, law_gaps = _n2f_sigma(stem, sl, job, model, contact, contact_gap, mesh)
         return _frames(sl, method, lam, sigmas, disp, stem, origins, law_gaps)
     table = sl.surface == "table"
-    gap_rows = np.ones(sl.node.size, bool) if method == "penalty" else ~table
+    # forces from RF of another node: the grounded gap node, or (f2f) the matching master node under the slave
+    gap_rows = np.ones(sl.node.size, bool) if method in ("penalty", "f2f") else ~table
     mortar_rows = ~gap_rows
     if mortar_rows.any():
         has_rf = any(int(sl.node[np.flatnonzero(mortar_rows)[0]]) in f for f in forces.values())

@@ -25,6 +25,7 @@ _META_N2F = "** deckbridge-n2f "
 _META_UNITS = INP_UNITS_TAG
 _META_JOB = "** deckbridge-job"
 _META_SLAVE = "** deckbridge-slave "
+_META_F2F = "** deckbridge-f2f-master "      # face-to-face deck: table slave node, master node under it
 
 
 # --- slave table -------------------------------------------------------------------------------------
@@ -73,6 +74,9 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
         elif line.startswith(_META_N2F) and not line.startswith(_META_N2F + "node"):
             n, surf, a = line[len(_META_N2F):].split()[:3]
             area[(int(n), surf)] = float(a)
+        elif line.startswith(_META_F2F) and not line.startswith(_META_F2F + "slave"):
+            slave, master = (int(v) for v in line[len(_META_F2F):].split()[:2])
+            gaps[(slave, "table")] = master          # its RF is the slave's force, as a grounded gap node's
         elif line.startswith(_META_SLAVE) and not line.startswith(_META_SLAVE + "node"):
             rows.append(line[len(_META_SLAVE):].split())
         elif line.startswith("*"):
