@@ -114,7 +114,7 @@ class ContactRows:
 class SkirtMesh:
     """The skirt's hexahedral mesh with the contact and load-introduction data derived from the model."""
     nodes: np.ndarray          # (n, 3) [m]
-    hexes: np.ndarray          # (m, 8) 0-based node indices
+    hexes: np.ndarray          # (m, k) 0-based node indices of the cells of ``element`` (CalculiX order)
     table: SlaveSet            # base ring on the table plane z = 0
     stop: SlaveSet | None      # base-ring nodes on the stop face, None when contact.stop.side = none
     k_tangent: np.ndarray      # circumferential restraint per table slave node [N/m]
@@ -130,6 +130,13 @@ class SkirtMesh:
     stop_elems: np.ndarray | None = None   # first-row hexahedra on the stop side (S6 inner / S4 outer)
     node_ids: np.ndarray | None = None     # user node id of every node (None: index + 1)
     elem_ids: np.ndarray | None = None     # user element id of every hexahedron (None: index + 1)
+    element: str = "c3d8i"                 # solver name of the cells' type (issue 23, mesh_order.py)
+    table_faces: tuple | None = None       # quadratic/tet types: the table's faces [(FaceType, conn), ...]
+
+    @property
+    def quadratic_faces(self) -> bool:
+        """True when a contact face has mid-side nodes (8- or 6-node faces: nodal contact is not exact)."""
+        return self.table_faces is not None and any(f.n_nodes > f.n_corners for f, _ in self.table_faces)
 
     @property
     def n_nodes(self) -> int:

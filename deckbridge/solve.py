@@ -37,8 +37,12 @@ SOURCE = "reference"
 
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
-    """Translate the model and its mesh into the solver's arrays (C3D8I elements)."""
+    """Translate the model and its mesh into the solver's arrays (the mesh's element type; refused with
+    ModelError on quadratic contact faces, where the solver's nodal contact law is wrong)."""
     mesh = mesh or build_mesh(model)
+    if mesh.quadratic_faces:          # issue 23: the solver's contact law is nodal (mesh_order.py)
+        from .mesh_order import QUADRATIC_REFUSED
+        raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
@@ -46,7 +50,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
     kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
     return rs.Problem(
-        nodes=mesh.nodes, hexes=mesh.hexes, E=model.material.E, nu=model.material.nu,
+        nodes=mesh.nodes, hexes=mesh.hexes, element=mesh.element, E=model.material.E, nu=model.material.nu,
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
         contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
         spring_nodes=mesh.table.nodes[:0 if fric else None],
@@ -277,7 +281,8 @@ def result_mesh(p: rs.Problem, sol: rs.Solution):
             point[f"{surf}_sigma_n_step{s}_pa"] = sig
             point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
         cell[f"von_mises_step{s}_pa"] = [rs.element_von_mises(p, u)]
-    return meshio.Mesh(p.nodes, [("hexahedron", p.hexes)], point_data=point, cell_data=cell)
+    return meshio.Mesh(p.nodes, [(b.element.meshio_type, b.cells) for b in p.blocks], point_data=point,
+                       cell_data=cell)
 
 
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
