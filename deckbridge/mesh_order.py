@@ -7,7 +7,8 @@ around, at z = H kk / (2 n_z), r = r_mid(z) + (ii / (2 n_r) - 1/2) t, theta = 36
 so every node (corner or mid-side) lies on the true cylinder or cone. An element's corners are the even
 points of a coarse cell (n_z x n_r x n_theta cells, as the 8-node mesh); its mid-side nodes the refined
 points half way between two corners (in grid indices). Only the points some element uses are kept,
-numbered in grid order (kk, then ii, then jj), so tet4 and hex8 number their nodes as the 8-node mesh.
+numbered in grid order (kk, then ii, then jj), so tet4 and hex8 number their nodes as the 8-node mesh;
+the elements of one coarse cell follow each other, cells in the 8-node mesh's order (k, i, j).
 Cells: hexahedra as the 8-node mesh (C3D8 order, + the 12 mid-sides of C3D20); wedges: each cell split
 along its (r, theta) diagonal corner 1-3 into two prisms along z; tetrahedra: each cell split into six
 along its 1-7 diagonal (Kuhn), which is conforming on the structured grid (every face diagonal runs
@@ -96,7 +97,7 @@ def skirt_cells(model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             c[neg, 1], c[neg, 2] = c[neg, 2].copy(), c[neg, 1].copy()
         mids = [(c[:, a] + c[:, b]) // 2 for a, b in edges]
         blocks.append(np.concatenate([c] + [m[:, None] for m in mids], axis=1) if mids else c)
-    grid = np.concatenate(blocks, axis=0)                                       # (m, k, 3) unwrapped
+    grid = np.stack(blocks, axis=1).reshape(-1, blocks[0].shape[1], 3)         # (m, k, 3) unwrapped, cell by cell
     grid[..., 2] %= 2 * nt
     flat = (grid[..., 0] * (2 * nr + 1) + grid[..., 1]) * (2 * nt) + grid[..., 2]
     used, cells = np.unique(flat, return_inverse=True)

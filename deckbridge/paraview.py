@@ -108,9 +108,12 @@ def write_pvd(path: Path, files: list[str], times: np.ndarray, comment: str, lab
     return path
 
 
-def meshio_cell_type(cells: np.ndarray) -> str:
-    """meshio's name of cells (m, k) of the skirt's types by their node count (issue 23)."""
-    return {8: "hexahedron", 20: "hexahedron20", 10: "tetra10", 15: "wedge15", 4: "tetra"}[np.shape(cells)[1]]
+def vtk_cells(cells: np.ndarray) -> tuple[str, np.ndarray]:
+    """(meshio cell type, cells) of the skirt's cells (m, k) by their node count (issue 23; CalculiX and VTK
+    share the node order). 15-node wedges go as their 6 corners: meshio 5.3 cannot hold 'wedge15'."""
+    cells = np.asarray(cells, np.int64)
+    kind = {8: "hexahedron", 20: "hexahedron20", 10: "tetra10", 15: "wedge", 4: "tetra"}[cells.shape[1]]
+    return kind, (cells[:, :6] if cells.shape[1] == 15 else cells)
 
 
 def write_states(folder: Path, base: str, nodes: np.ndarray, hexes: np.ndarray, states: list[dict],
@@ -120,7 +123,7 @@ def write_states(folder: Path, base: str, nodes: np.ndarray, hexes: np.ndarray, 
     files = []
     for k, st in enumerate(states):
         name = f"{base}_{k:03d}.vtu"
-        meshio.write(folder / name, meshio.Mesh(nodes, [(meshio_cell_type(hexes), hexes)], point_data=st["point"],
+        meshio.write(folder / name, meshio.Mesh(nodes, [vtk_cells(hexes)], point_data=st["point"],
                                                 cell_data={k2: [v] for k2, v in st["cell"].items()}))
         files.append(name)
     pvd = write_pvd(folder / f"{base}.pvd", files, times, comment, [st["label"] for st in states])

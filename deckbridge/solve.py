@@ -281,8 +281,8 @@ def result_mesh(p: rs.Problem, sol: rs.Solution):
             point[f"{surf}_sigma_n_step{s}_pa"] = sig
             point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
         cell[f"von_mises_step{s}_pa"] = [rs.element_von_mises(p, u)]
-    return meshio.Mesh(p.nodes, [(b.element.meshio_type, b.cells) for b in p.blocks], point_data=point,
-                       cell_data=cell)
+    from .paraview import vtk_cells
+    return meshio.Mesh(p.nodes, [vtk_cells(b.cells) for b in p.blocks], point_data=point, cell_data=cell)
 
 
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
