@@ -174,6 +174,14 @@ def build_any_order(model):
     nodes, cells, ijk = skirt_cells(model)
     nt, nr, nz = ms.n_theta, ms.n_r, ms.n_z
     blocks = (rs.ElementBlock(et, cells),)
+    if et.hourglass:
+        from reference_solver.hourglass import hourglass_elements
+        flagged = hourglass_elements(blocks)
+        if flagged.size:
+            warnings.warn(f"mesh.element = {ms.element}: {flagged.size} of {cells.shape[0]} elements have face "
+                          "neighbours across fewer than two of their three directions, so C3D20R hourglass "
+                          "(zero-energy) modes are possible: use hex20, or more elements along mesh.n_z / "
+                          "mesh.n_r", stacklevel=3)
     kbulk, h1 = model.material.bulk_modulus, g.height / nz
     quadratic = et.name != "c3d4"
 

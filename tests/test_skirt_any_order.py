@@ -116,3 +116,26 @@ def test_bad_and_warned_values():
         load(None, ["mesh.element=hex20", "mesh.file=x.inp", "mesh.sets={base: B, top: T}"])
     with pytest.raises(ModelError, match=r"^contact.pads"):
         build_mesh(_model("hex20r", "contact.pads={count: 4, width_deg: 30, first_deg: 0}"))
+
+
+def test_hex20r_warns_where_hourglass_modes_are_possible():
+    """One element along z and through the wall: every element has face neighbours around only (a row),
+    where C3D20R has zero-energy modes beyond the 6 rigid-body ones (counted on the free stiffness of a thick
+    ring, t = 0.3 m, H = 1 m: measured 7, C3D20 6; on the thin default wall the slender elements' bending
+    modes also fall below 1e-9 of the largest eigenvalue); a wall one element thick but two high has just the
+    6, and no warning."""
+    from reference_solver.assembly import assemble_stiffness
+    THICK = ["geometry.thickness=0.3", "geometry.height=1.0"]
+
+    def zero_modes(mesh):
+        K = assemble_stiffness(mesh.nodes, mesh.hexes, 2.1e11, 0.3, "c3d20r").toarray()
+        w = np.linalg.eigvalsh(K)
+        return int((w < 1e-9 * w.max()).sum())
+
+    with pytest.warns(UserWarning, match=r"hex20r: 8 of 8 elements .*hourglass"):
+        row = build_mesh(load(None, ["mesh.element=hex20r", "mesh.n_theta=8", "mesh.n_z=1", "mesh.n_r=1", *THICK]))
+    assert zero_modes(row) == 7
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        wall = build_mesh(load(None, ["mesh.element=hex20r", "mesh.n_theta=8", "mesh.n_z=2", "mesh.n_r=1", *THICK]))
+    assert zero_modes(wall) == 6
