@@ -37,8 +37,14 @@ def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.
     """Base area [m^2] each azimuth of the wall stands on: the nodal shares (:func:`quad_nodal_areas`) of
     the base faces (nodes 1-4) of every bottom-row hexahedron ``bottom_hexes`` (ne, 8), pad or not, summed
     over each azimuth's through-wall base nodes ``wall_nodes`` (na, nw) (``deckbridge.base_wall.BaseWall.nodes``).
-    Sums to the whole base section, so that Sum sigma_zz x area is the wall's axial resultant there."""
-    faces = np.asarray(bottom_hexes, np.int64)[:, :4]
+    Sums to the whole base section, so that Sum sigma_zz x area is the wall's axial resultant there.
+    Cells of other types (``mesh.element``, issue 23: 4-, 10-, 15-, 20-node): the positive (HRZ) nodal areas
+    of their faces on the lowest plane (:func:`deckbridge.mesh_order.base_face_areas`)."""
+    cells = np.asarray(bottom_hexes, np.int64)
+    if cells.shape[1] != 8:
+        from .mesh_order import base_face_areas
+        return base_face_areas(nodes, cells)[np.asarray(wall_nodes, np.int64)].sum(axis=1)
+    faces = cells[:, :4]
     area = np.zeros(nodes.shape[0])
     np.add.at(area, faces.ravel(), quad_nodal_areas(nodes[faces]).ravel())
     return area[np.asarray(wall_nodes, np.int64)].sum(axis=1)

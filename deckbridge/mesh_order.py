@@ -133,6 +133,19 @@ def hrz_areas(faces, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return surf, area[surf]
 
 
+def base_face_areas(nodes: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """Nodal areas [m^2] (n,) of the faces of ``cells`` (m, k: 4, 10, 15 or 20 nodes, CalculiX order) that lie
+    on their lowest plane (z within 1e-9 of the height span): :func:`hrz_areas`, positive, summing to the area."""
+    from reference_solver.face_weights import surface_faces
+    et = element_type({4: "c3d4", 10: "c3d10", 15: "c3d15", 20: "c3d20"}[cells.shape[1]])
+    z = nodes[:, 2]
+    on = z <= z[np.unique(cells)].min() + 1e-9 * max(float(np.ptp(z)), 1e-300)
+    surf, area = hrz_areas(tuple(surface_faces((rs.ElementBlock(et, cells),), on)), nodes)
+    out = np.zeros(nodes.shape[0])
+    out[surf] = area
+    return out
+
+
 def edge_weights(theta_rad: np.ndarray, radius: np.ndarray, quadratic: bool) -> np.ndarray:
     """Line weights [m] of nodes around one circle (sorted by angle): trapezoid (linear edges) or Simpson
     (quadratic edges: corners 1/6 of each edge's length, mid-sides 2/3), with n even for quadratic."""

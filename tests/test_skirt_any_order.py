@@ -139,3 +139,19 @@ def test_hex20r_warns_where_hourglass_modes_are_possible():
         warnings.simplefilter("error")
         wall = build_mesh(load(None, ["mesh.element=hex20r", "mesh.n_theta=8", "mesh.n_z=2", "mesh.n_r=1", *THICK]))
     assert zero_modes(wall) == 6
+
+
+@pytest.mark.parametrize("element", ["tet4", "hex8"])
+def test_run_wall_areas_sum_to_the_base_section(tmp_path, element):
+    """The run's wall_stress.csv: area per azimuth sums to the base annulus (chords: 1.2e-2), and
+    Sum sigma_zz x area = N in step 1 (the wall's axial resultant; distributing top, 24 x 3 x 2)."""
+    import pandas as pd
+
+    from deckbridge.job import run_job
+    m = _model(element, "steps.increments=1")
+    run_job(m, tmp_path, echo=lambda s: None)
+    w = pd.read_csv(tmp_path / "reference_lagrange" / "wall_stress.csv")
+    s1 = w[w.step == 1]
+    g = m.geometry
+    assert s1.area_m2.sum() == pytest.approx(2 * math.pi * g.radius * g.thickness, rel=1.2e-2)
+    assert -(s1.szz_mean_pa * s1.area_m2).sum() == pytest.approx(m.loads.N, rel=1e-9)   # measured 1e-12
