@@ -157,11 +157,6 @@ def edge_weights(theta_rad: np.ndarray, radius: np.ndarray, quadratic: bool) -> 
     return w * step
 
 
-def problem_blocks(mesh) -> tuple:
-    """The solver's element blocks of a skirt mesh (one block: its element type and cells)."""
-    return (rs.ElementBlock(mesh.element, mesh.hexes),)
-
-
 def _elems_with_face(et, cells: np.ndarray, on: np.ndarray) -> np.ndarray:
     """Indices of the cells that have a face whose nodes all have ``on``."""
     hit = np.zeros(cells.shape[0], bool)
@@ -245,4 +240,5 @@ def build_any_order(model):
 # step 1) and 1.5-2.7 (penalty, every element type with mid-side nodes): the nodal law is unusable there.
 QUADRATIC_REFUSED = ("the reference solver's contact law is nodal (a sign condition on nodal forces), which is "
                      "wrong on 8-/6-node faces (corner nodes open at zero load; through-wall sigma_N measured "
-                     "18-270 % of the peak off beam theory): solve with hex8i, hex8 or tet4, or run the CalculiX mortar deck")
+                     "18-270 % of the peak off beam theory): solve with hex8i, hex8 or tet4, or run the CalculiX "
+                     "mortar deck")
