@@ -40,8 +40,12 @@ SOURCE = "reference"
 
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
-    """Translate the model and its mesh into the solver's arrays (C3D8I elements)."""
+    """Translate the model and its mesh into the solver's arrays (the mesh's element type; refused with
+    ModelError on quadratic contact faces, where the solver's nodal contact law is wrong)."""
     mesh = mesh or build_mesh(model)
+    if mesh.quadratic_faces:          # issue 23: the solver's contact law is nodal (mesh_order.py)
+        from .mesh_order import QUADRATIC_REFUSED
+        raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
@@ -49,7 +53,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
     kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
     return rs.Problem(
-        nodes=mesh.nodes, hexes=mesh.hexes, E=model.material.E, nu=model.material.nu,
+        nodes=mesh.nodes, hexes=mesh.hexes, element=mesh.element, E=model.material.E, nu=model.material.nu,
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
         contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
         spring_nodes=mesh.table.nodes[:0 if fric else None],

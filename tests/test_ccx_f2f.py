@@ -15,7 +15,7 @@ import pytest
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
-from deckbridge.render.calculix import f2f_context, f2f_face_slopes
+from deckbridge.dialects.calculix.render import f2f_context, f2f_face_slopes
 from deckbridge.solve import solve_model
 
 SMALL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1"]

@@ -143,8 +143,8 @@ def test_registered_modules_do_not_import_their_package_back(pkg):
 LAYERS = {
     "base": ["errors", "azimuth", "jsonable", "textsafe", "units", "safe_yaml", "results", "quantities",
              "mesh_data", "supports", "friction_table", "tangent_springs", "dialects", "summary_keys", "base_wall",
-             "api_callable", "methods"],
-    "model": ["model_fields", "overrides", "outdir", "importers", "model", "mesh", "numbering",
+             "api_callable", "methods", "deck_elements", "face_areas"],
+    "model": ["model_fields", "overrides", "outdir", "importers", "model", "mesh", "mesh_order", "numbering",
               "imported_model"],
     "outputs": ["render", "readers", "paraview", "wall_stress", "solve", "limits", "compare", "report"],
     "dialects": ["dialects.*"],

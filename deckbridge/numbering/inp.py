@@ -103,6 +103,8 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
     r_in, r_out = g.radius - t / 2, g.radius + t / 2
     h1 = (float(mesh.nodes[node_index(1, 0, 0, nr, nt), 2]) if mesh.node_ids is None   # first-row height
           else first_row_height(mesh))
+    if mesh.node_ids is None and getattr(mesh, "element", "c3d8i") not in ("c3d8i", "c3d8"):
+        h1 = g.height / nz            # issue 23: quadratic / tetrahedral skirt (deckbridge/mesh_order.py)
     table_master = stop_master = None
     if "table" in masters:
         table_master = ring([r_in - t, r_out + t], [-t, 0.0], nt, next_node, next_elem, FACE_TOP)

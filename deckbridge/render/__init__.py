@@ -13,6 +13,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
+from ..deck_elements import element_problem
 from ..dialects import DIALECTS
 from ..errors import DeckbridgeError, DeckUnsupported
 from ..mesh import SkirtMesh, build_mesh
@@ -39,7 +40,7 @@ def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
     with staged(outdir) as stage:
         for name in chosen:
             try:
-                why = DIALECTS[name].id_problem(mesh)
+                why = element_problem(name, model, mesh) or DIALECTS[name].id_problem(mesh)
                 if why:
                     raise DeckUnsupported(name, why)
                 files = DIALECTS[name].write(model, mesh, stage)

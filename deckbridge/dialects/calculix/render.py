@@ -50,7 +50,8 @@ from ...model import Model
 from ...numbering.inp import FACE_TOP, Layout
 from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...units import scale
-from ...numbering.skirt import mesh_node_ids, mesh_node_index
+from ...numbering.skirt import elem_ids, mesh_node_ids, mesh_node_index
+from ...deck_elements import face_label_lines
 from ...render._env import deck_paths, render
 from ...render.inp_cards import clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context
 
@@ -216,7 +217,9 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
     u = scale(model.units)
     km_deck = km * u.stress / u.length
     mu = model.contact.friction
-    ctx.update(table_slave=face_lines(lay.base_elems, "S1"), table_master=face_lines(tm.elem_ids, tm.face),
+    slave = (face_lines(lay.base_elems, "S1") if mesh.element in ("c3d8i", "c3d8") else   # issue 23: any type
+             face_label_lines(mesh, mesh.base_elems, elem_ids(mesh, mesh.base_elems), 0.0))
+    ctx.update(table_slave=slave, table_master=face_lines(tm.elem_ids, tm.face),
                master_elems=element_lines(tm.elem_ids, tm.conn),
                mortar_k=real(km_deck), mortar_hard=MORTAR_HARD, friction=mu > 0,
                friction_line=f"{real(mu)}, {real(STICK_SLOPE_RATIO * km_deck)}",
@@ -312,6 +315,10 @@ def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
     out = []
     for method, ctx_fn, tpl in DECKS:
         if method == "f2f" and model.analysis.nlgeom:
+            continue
+        if method == "penalty" and mesh.quadratic_faces:   # node-to-surface / GAPUNI: node-based (issue 23)
+            continue
+        if method == "f2f" and mesh.element not in ("c3d8", "c3d8i"):   # its master layer: 4-node faces only
             continue
         text = render(RECORD.templates, tpl, **ctx_fn(model, mesh))
         p = paths[method]
