@@ -70,3 +70,58 @@ def terms_text(t: dict) -> str:
 
 def _range(lo: float, hi: float) -> str:
     return f"{lo:.4g}" if np.isclose(lo, hi, rtol=1e-9) else f"{lo:.4g} … {hi:.4g}"
+
+
+def variant_name(variant) -> str:
+    """A grid point named by its keys and values: 'mesh 24x6x1, contact.penalty.open_ratio=0.001'."""
+    parts = [f"mesh {variant.mesh_label}"]
+    parts += [f"{k}={'follow' if v is None else v}" for k, v in variant.grid]
+    return ", ".join(parts)
+
+
+def variant_recommendation(variant, k_c: np.ndarray, per_k: list[dict], lagrange: dict, tol: float,
+                           onset_tol: float | None = None) -> dict:
+    """Mark every row of ``per_k`` with 'onset_rel_diff' and 'reproduces' (in place) and return the grid
+    point's recommendation: its name, the smallest k-factor that reproduces Lagrange (None when none
+    does) in deck terms (:func:`deck_terms`; ``k_c`` the variant's node stiffness at k-factor 1 [N/m]), and
+    one line saying so (or what the stiffest k-factor still misses)."""
+    for d in per_k:
+        d["onset_rel_diff"] = (None if d.get("error") else
+                               onset_gap(d.get("liftoff_load_factor"), lagrange.get("liftoff_load_factor")))
+        d["reproduces"] = bool(not lagrange.get("error") and reproduces(d, lagrange, tol, onset_tol))
+    name = variant_name(variant)
+    ok = [d["k_factor"] for d in per_k if d["reproduces"]]
+    if ok:
+        terms = deck_terms(variant.model, k_c, min(ok))
+        return {"name": name, **terms, "text": f"{name}: {terms_text(terms)}"}
+    rows = [d for d in per_k if not d.get("error")]
+    if lagrange.get("error") or not rows:
+        why = "no Lagrange reference" if lagrange.get("error") else "every penalty case failed"
+        return {"name": name, "k_factor": None, "text": f"{name}: none ({why})"}
+    top = max(rows, key=lambda d: d["k_factor"])
+    og = top["onset_rel_diff"]
+    return {"name": name, "k_factor": None,
+            "text": (f"{name}: none up to k-factor {top['k_factor']:g} (there worst |dsigma_N| = "
+                     f"{100 * top['max_rel_diff']:.3g} % of the Lagrange peak, onset "
+                     + ("only one method lifts off" if og == float("inf") else f"{100 * og:.3g} % off") + ")")}
+
+
+def overall_recommendation(k_factors, variants, k_cs: list[np.ndarray], recs: list[dict],
+                           per_ks: list[list[dict]], tol: float) -> dict:
+    """The smallest k-factor that reproduces Lagrange at every grid point (None when none does), its
+    alpha(s) and the KA range over the grid points in the deck's units, and a note naming each grid
+    point's own answer."""
+    every = [k for k in k_factors if all(any(d["k_factor"] == k and d.get("reproduces") for d in pk) for pk in per_ks)]
+    k = min(every) if every else None
+    many = len(recs) > 1
+    head = (f"reproduces Lagrange (max |dsigma_N| <= {tol:g} x |Lagrange peak compression| at every compared load "
+            f"factor and the first-node onset within {tol:g} x the Lagrange onset)")
+    where = (" at every grid point" if many else "") + "; per grid point: " + "; ".join(r["text"] for r in recs)
+    if k is None:
+        return {"k_factor": None, "note": f"no k-factor of the sweep {head}{where}"}
+    terms = [deck_terms(v.model, kc, k) for v, kc in zip(variants, k_cs)]
+    alphas = sorted({t["alpha"] for t in terms if t["alpha"] is not None})
+    units = sorted({t["unit"] for t in terms})
+    return {"k_factor": k, "alpha": alphas, "ka_min": min(t["ka_min"] for t in terms),
+            "ka_max": max(t["ka_max"] for t in terms), "unit": ", ".join(units),
+            "note": f"smallest k-factor that {head}{where}"}
