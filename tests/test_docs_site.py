@@ -93,3 +93,21 @@ def test_main_pages_render_in_headless_chromium(site, page, tmp_path):
     header = img[5:40, :, :].reshape(-1, 3)                             # Material's indigo header bar
     indigo = (np.abs(header - np.array([0x40, 0x51, 0xb5])).max(axis=1) < 40).mean()
     assert indigo > 0.5, indigo
+
+
+def test_the_notebook_slot_renders_cells_and_outputs(tmp_path):
+    """docs/notebooks/quickstart.md shows the notebook through the hook: code cells, markdown, text outputs."""
+    import json
+    import runpy
+
+    hook = runpy.run_path(str(ROOT / "docs" / "hooks" / "deckbridge_docs.py"))
+    nb = {"metadata": {"kernelspec": {"language": "python"}}, "nbformat": 4, "nbformat_minor": 5, "cells": [
+        {"cell_type": "markdown", "metadata": {}, "source": ["# Load the model"]},
+        {"cell_type": "code", "metadata": {}, "execution_count": 1, "source": ["print(2 + 2)"],
+         "outputs": [{"output_type": "stream", "name": "stdout", "text": ["4\n"]}]}]}
+    (tmp_path / "notebooks").mkdir()
+    (tmp_path / "notebooks" / "q.ipynb").write_text(json.dumps(nb))
+    md = hook["on_page_markdown"]("x <!-- notebook: notebooks/q.ipynb --> y", None, {"docs_dir": str(tmp_path)}, None)
+    assert "# Load the model" in md and "```python\nprint(2 + 2)\n```" in md and "```text\n4\n```" in md
+    missing = hook["on_page_markdown"]("<!-- notebook: notebooks/none.ipynb -->", None, {"docs_dir": str(tmp_path)}, None)
+    assert "not in this checkout yet" in missing
