@@ -16,6 +16,7 @@ import json
 from pathlib import Path
 
 from ..compare.result import ComparisonResult
+from ..errors import DeckbridgeError
 from ..jsonable import json_clean
 from ..outdir import staged
 from ..compare.load_path import load_path, status_map
@@ -95,8 +96,11 @@ def _verdict(result: ComparisonResult, model, extra: dict) -> tuple[dict, list[d
     (``extra['verdict'] = False`` leaves it out; ``extra['tol']`` sets its tolerance)."""
     if model is None or not extra.get("verdict", True) or not any(s.method == "penalty" for s in result.series):
         return None
-    return (penalty_verdict(model, extra.get("tol", DEFAULT_TOL), model_path=extra.get("model_path", "MODEL")),
-            measured_rows(result, model))
+    try:
+        verdict = penalty_verdict(model, extra.get("tol", DEFAULT_TOL), model_path=extra.get("model_path", "MODEL"))
+    except DeckbridgeError as exc:        # the report still stands; the verdict says why it is missing
+        verdict = {"error": str(exc)}
+    return verdict, measured_rows(result, model)
 
 
 def _solver_options(record) -> dict | None:

@@ -66,7 +66,7 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
     onset_tol = tol if onset_tol is None else onset_tol
     variant = mesh_variants(model)[0]
     md = model.to_dict()
-    cond = condense_variant(md, light=True)
+    cond = condense_variant(md, light=False)      # in process: the factor stays (friction systems need it)
     k_c = node_stiffness(cond.mesh)
     lag = Case(variant, "lagrange")
     tables, records, series = {}, {}, {}
@@ -170,6 +170,9 @@ def _lam(v) -> str:
 
 def verdict_view(verdict: dict, measured: list[dict], model: Model) -> dict:
     """Plain-text lines and rows of the report's verdict section (the template only lays them out)."""
+    if verdict.get("error"):
+        return {"head": f"No verdict on the penalty: {verdict['error']}", "advice": "", "command": "", "definition": "",
+                "head_row": [], "rows": [], "measured": [], "measured_head": []}
     mp, rec, lag = verdict["model_penalty"], verdict["recommended"], verdict["lagrange"]
     what = ("the model's penalty (" + ("α = " + format(mp["alpha"], "g") if mp["alpha"] is not None
                                        else "k_normal") + ", k-factor 1: the k_c per node of the reference penalty, "
