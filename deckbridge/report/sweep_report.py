@@ -35,7 +35,7 @@ def metrics_figure(summary: dict) -> Figure:
         if not pk:
             continue
         k = np.array([d["k_factor"] for d in pk])
-        lab = f"mesh {m['mesh']}"
+        lab = m.get("name") or f"mesh {m['mesh']}"
         rel = np.array([max(d["max_rel_diff"], 1e-16) for d in pk]) * 100
         ax[0, 0].loglog(k, rel, "o-", color=col, label=lab)
         for j, lf in enumerate(m["compared_load_factors"]):
@@ -163,7 +163,7 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None, quantiti
         for pt in ([] if r.comparison is None else r.comparison.points):
             if _drawn(pt, summary["tol"]):
                 jobs.append((sigma_png, (pt, r.comparison.labels,
-                                         f"mesh {m['mesh']}: σN vs azimuth, λ = {pt.load_factor:.4g} ({pt.what})")))
+                                         f"{m.get('name') or 'mesh ' + m['mesh']}: σN vs azimuth, λ = {pt.load_factor:.4g} ({pt.what})")))
     for c in summary.get("claims") or []:
         if not c.get("error"):
             q = quantities[quantities["case_id"].str.startswith(c["variant"] + "_")] if quantities is not None else None
