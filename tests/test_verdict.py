@@ -54,6 +54,8 @@ def test_verdict_agrees_with_a_sweep_and_its_ka_reproduces_lagrange(sets, tmp_pa
     # written as the model's own penalty (alpha), solved directly: within TOL of Lagrange
     stiff = model.with_overrides({"contact.penalty.alpha": rec["alpha"]})
     assert penalty_verdict(stiff, tol=TOL)["model_penalty"]["converged"]
+    again = run_sweep(stiff, [1.0], tmp_path / "stiff", tol=TOL, progress=False, report=False)["summary"]
+    assert again["meshes"][0]["penalty"][0]["reproduces"] and again["recommended_k_factor"] == 1.0
     if model.contact.penalty.k_tangent is not None:     # fixed k_t: the plain Lagrange solve is the reference
         pen, ps = solve_model(stiff, "penalty")
         lag, ls = solve_model(model, "lagrange")
