@@ -8,3 +8,4 @@ Data flow: model -> mesh -> (render decks | reference solver | external solver) 
 from .model import Model, ModelError, load  # noqa: F401
 
 __version__ = "0.1.0"
+from .contact_results import read_contact  # noqa: F401,E402

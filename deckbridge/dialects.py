@@ -93,6 +93,11 @@ DIALECTS: dict[str, Dialect] = {d.name: d for d in (
             ("{name}_penalty.bdf",),
             "MSC/NX Nastran SOL 106, CGAP penalty contact (not run here)", max_id=NASTRAN_MAX_ID,
             largest_id="deckbridge.numbering.nastran:largest_id"),
+    Dialect("nastran_surface", "deckbridge.render.nastran_surface:write", "nastran_surface", "nastran_contact",
+            "nastran_surface", ("{name}_surface.bdf",),
+            "Simcenter Nastran SOL 101 surface contact (BSURFS/BCTSET/BCTPARM), table and stop as clamped solid "
+            "layers (not run here)", max_id=NASTRAN_MAX_ID,
+            largest_id="deckbridge.render.nastran_surface:largest_id"),
 )}
 
 

@@ -36,7 +36,7 @@ def quad_nodal_areas(xyz: np.ndarray) -> np.ndarray:
 def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.ndarray) -> np.ndarray:
     """Base area [m^2] each azimuth of the wall stands on: the nodal shares (:func:`quad_nodal_areas`) of
     the base faces (nodes 1-4) of every bottom-row hexahedron ``bottom_hexes`` (ne, 8), pad or not, summed
-    over each azimuth's through-wall base nodes ``wall_nodes`` (na, nw) (``reference_solver.stress.BaseWall.nodes``).
+    over each azimuth's through-wall base nodes ``wall_nodes`` (na, nw) (``deckbridge.base_wall.BaseWall.nodes``).
     Sums to the whole base section, so that Sum sigma_zz x area is the wall's axial resultant there."""
     faces = np.asarray(bottom_hexes, np.int64)[:, :4]
     area = np.zeros(nodes.shape[0])

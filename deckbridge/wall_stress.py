@@ -3,7 +3,7 @@
 Wall table columns (one row per state and azimuth): step, increment, load_factor, theta_deg,
 szz_inner_pa, szz_outer_pa, szz_mean_pa, szz_bending_pa [Pa], tension > 0 (the definitions of
 :mod:`deckbridge.quantities`), and ``area_m2`` [m^2] the base area of the azimuth (every bottom-row face,
-on a pad or not: :func:`deckbridge.mesh_data.base_wall_areas`; absent from older tables). Reference: :func:`reference_solver.stress.reference_base_wall` on the
+on a pad or not: :func:`deckbridge.mesh_data.base_wall_areas`; absent from older tables). Reference: :func:`deckbridge.base_wall.reference_base_wall` on the
 bottom element row (Gauss points -> corners, averaged over the row's elements sharing a node);
 CalculiX: ``*EL PRINT`` S of the bottom row (:mod:`deckbridge.readers.ccx_el_stress`), used when the
 deck wrote it (never the ``.frd`` nodal stresses).
@@ -19,9 +19,9 @@ import pandas as pd
 import reference_solver as rs
 from reference_solver.recover import path_fields
 from reference_solver.section_onset import section_onset
-from reference_solver.stress import reference_base_wall
 
 from .azimuth import snap_deg
+from .base_wall import reference_base_wall
 from .errors import DeckbridgeError
 from .mesh_data import base_wall_areas
 from .numbering.skirt import bottom_row_index

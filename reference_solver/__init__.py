@@ -1,4 +1,4 @@
-"""reference_solver: small-strain hexahedral elasticity with penalty and Lagrange contact on rigid masters.
+"""reference_solver: small-strain solid elasticity with penalty and Lagrange contact on rigid masters.
 
 Stand-alone (imports nothing from deckbridge): arrays in, arrays out. SI units; contact normals
 point from the master into the body, gaps > 0 are open, contact forces > 0 are compressive and
@@ -9,7 +9,14 @@ API
 ``Problem(nodes, hexes, E, nu, contact_*, spring_*, ref_point, coupling_nodes, coupling_weights, loads, ...)``
     Frozen dataclass of arrays, validated on construction (see :class:`reference_solver.problem.Problem`).
     ``loads`` maps load-case names to (Fx, Fy, Fz, Mx, My, Mz) at ``ref_point``; ``coupling`` is
-    'distributing' (RBE3-like) or 'kinematic' (rigid top); ``element`` 'c3d8i' (default) or 'c3d8'.
+    'distributing' (RBE3-like) or 'kinematic' (rigid top); ``element`` 'c3d8i' (default), 'c3d8', 'c3d20',
+    'c3d20r', 'c3d10', 'c3d15' or 'c3d4' (aliases 'hex8i', 'hex20r', 'tet10', ...), or ``blocks`` (one
+    ``ElementBlock(element, cells)`` per element type: a mixed mesh).
+``element_type(name)``, ``ELEMENT_TYPES``
+    The element interface (:mod:`reference_solver.element_base`): shape functions, quadrature, face rule,
+    Gauss-to-node extrapolation, stiffness and strain operators, vectorised over a block of elements.
+``face_weights``: ``surface_faces``, ``face_matrix`` (M = int N_a N_b dA, or lumped), ``project_pressure``
+    The building blocks of a face-weighted contact law (sigma_N = -M^-1 r).
 ``condense(problem, cases=None, factorize=None, schur='auto', threads=None) -> CondensedSystem``
     Assembles K (vectorised hexahedra, incompatible modes condensed per element, summed by 3x3 node
     blocks), rotates contact and spring nodes into local frames, applies the coupling (distributing:
@@ -50,7 +57,7 @@ API
 from .assembly import assemble_stiffness
 from .condense import CondensedSystem, check_mechanism, condense
 from .contact import lcp_active_set, lcp_pgs, penalty_solve
-from .elements import hex8_stiffness
+from .elements import ELEMENT_TYPES, element_type, hex8_stiffness
 from .errors import ReferenceSolverError
 from .estimate import estimate_peak_bytes, factor_entries
 from .fields import element_stress, element_von_mises
@@ -59,7 +66,7 @@ from .friction import condense_problem as condense  # dispatches on Problem.tang
 from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_factorize
 from .loads import distributing_forces
 from .path import Solution, solve_path
-from .problem import Problem
+from .problem import ElementBlock, Problem
 from .threads import blas_info, blas_threads, default_threads
 
 __all__ = [
@@ -69,4 +76,5 @@ __all__ = [
     "cholmod_factorize", "splu_factorize", "default_factorize", "HAVE_CHOLMOD",
     "FrictionSystem", "GrossSlip", "condense_friction",
     "blas_info", "blas_threads", "default_threads", "estimate_peak_bytes", "factor_entries",
+    "ELEMENT_TYPES", "ElementBlock", "element_type",
 ]

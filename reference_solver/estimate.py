@@ -27,13 +27,16 @@ import scipy.sparse as sp
 BASE_BYTES = 250 * 2**20       # interpreter, NumPy/SciPy/CHOLMOD, deckbridge
 
 
-def factor_entries(hexes: np.ndarray, n_nodes: int) -> int | None:
-    """Entries of the dof-level Cholesky factor from a symbolic analysis of the node graph, or None."""
+def factor_entries(hexes, n_nodes: int) -> int | None:
+    """Entries of the dof-level Cholesky factor from a symbolic analysis of the node graph, or None.
+
+    ``hexes``: the connectivity (m, k) of any element type, or a list of them (the blocks of a mixed mesh).
+    """
     from .linalg import _cholmod
     if _cholmod is None:
         return None
     from .assembly import node_pairs
-    rows, cols, _ = node_pairs(np.asarray(hexes), n_nodes)
+    rows, cols, _ = node_pairs(hexes if isinstance(hexes, (list, tuple)) else np.asarray(hexes), n_nodes)
     G = sp.csc_matrix((np.ones(rows.size), (rows, cols)), shape=(n_nodes, n_nodes))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

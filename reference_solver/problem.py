@@ -7,7 +7,8 @@ from typing import Mapping
 
 import numpy as np
 
-from .elements import ELEMENTS
+from .element_base import Element
+from .elements import element_type
 from .errors import ReferenceSolverError
 
 COUPLINGS = ("distributing", "kinematic")
@@ -15,8 +16,25 @@ TANGENTIAL = ("springs", "friction")
 
 
 @dataclass(frozen=True)
+class ElementBlock:
+    """Elements of one type: ``element`` (an :class:`element_base.Element`, or its name / alias) and
+    ``cells`` (m, element.n_nodes) 0-based node indices in the element's (CalculiX) node order."""
+    element: Element
+    cells: np.ndarray
+
+    def __post_init__(self):
+        object.__setattr__(self, "element", element_type(self.element))
+        object.__setattr__(self, "cells", np.asarray(self.cells, np.int64))
+
+
+@dataclass(frozen=True)
 class Problem:
-    """A hexahedral body resting on rigid master surfaces, loaded at a reference point.
+    """A solid body resting on rigid master surfaces, loaded at a reference point.
+
+    Elements: ``hexes`` (m, n) with ``element`` (one type, default 'c3d8i'), or ``blocks`` (a tuple of
+    :class:`ElementBlock`, one per element type: a mixed mesh). Given ``hexes`` only, ``blocks`` becomes
+    the one block (element, hexes); given ``blocks`` with ``hexes=None``, ``hexes`` and ``element``
+    become those of the first block when there is one block, else ``hexes`` is empty (use ``blocks``).
 
     Contact rows (one per slave node and master surface): ``contact_normals`` is the unit normal
     of the master at the node, pointing into the body; the gap ``clearance + u . n`` opens (> 0) when
@@ -36,7 +54,7 @@ class Problem:
     ``contact_k``), multiplied by the path's k_factor when ``kt_follows_k`` (k_t follows k_n).
     """
     nodes: np.ndarray                 # (n, 3) [m]
-    hexes: np.ndarray                 # (m, 8) 0-based, C3D8 order
+    hexes: np.ndarray | None          # (m, n) 0-based, the element's (CalculiX) node order; see blocks
     E: float                          # [Pa]
     nu: float                         # [-]
     contact_nodes: np.ndarray         # (nc,)
@@ -62,12 +80,14 @@ class Problem:
     kt_follows_k: bool = True         # k_t scales with the path's k_factor like k_n (else fixed)
     friction_surfaces: tuple = ("table",)  # surfaces whose rows carry Coulomb friction
     extra: dict = field(default_factory=dict, compare=False)
+    blocks: tuple = ()                # ElementBlock per element type (default: (element, hexes))
 
     def __post_init__(self):
         arr = lambda name, dt=float: object.__setattr__(self, name, np.asarray(getattr(self, name), dt))  # noqa: E731
         for name in ("nodes", "contact_normals", "contact_area", "contact_k", "contact_clearance",
                      "spring_dirs", "spring_k", "ref_point", "coupling_weights"):
             arr(name)
+        self._set_blocks()
         for name in ("hexes", "contact_nodes", "spring_nodes", "coupling_nodes"):
             arr(name, np.int64)
         object.__setattr__(self, "contact_surface", np.asarray(self.contact_surface, str))
@@ -76,6 +96,32 @@ class Problem:
         object.__setattr__(self, "friction_surfaces", tuple(str(s) for s in self.friction_surfaces))
         object.__setattr__(self, "loads", {k: np.asarray(v, float).reshape(6) for k, v in self.loads.items()})
         self._validate()
+
+    def _set_blocks(self) -> None:
+        """``blocks`` from (element, hexes), or ``hexes`` / ``element`` from a one-block ``blocks``."""
+        if not self.blocks:
+            if self.hexes is None:
+                raise ReferenceSolverError("hexes: expected an (m, n) array (or blocks)")
+            block = ElementBlock(self.element, self.hexes)
+            object.__setattr__(self, "element", block.element.name)
+            object.__setattr__(self, "blocks", (block,))
+            return
+        blocks = tuple(b if isinstance(b, ElementBlock) else ElementBlock(*b) for b in self.blocks)
+        object.__setattr__(self, "blocks", blocks)
+        if self.hexes is None:
+            one = len(blocks) == 1
+            object.__setattr__(self, "hexes", blocks[0].cells if one else np.empty((0, 8), np.int64))
+            if one:
+                object.__setattr__(self, "element", blocks[0].element.name)
+
+    @property
+    def cells(self) -> list[np.ndarray]:
+        """Connectivity of every block, in block order (elements are numbered block by block)."""
+        return [b.cells for b in self.blocks]
+
+    @property
+    def n_elements(self) -> int:
+        return sum(b.cells.shape[0] for b in self.blocks)
 
     @property
     def n_nodes(self) -> int:
@@ -99,12 +145,12 @@ class Problem:
             raise ReferenceSolverError(msg)
         if self.nodes.ndim != 2 or self.nodes.shape[1] != 3 or n == 0:
             bad("nodes: expected an (n, 3) array")
-        if self.hexes.ndim != 2 or self.hexes.shape[1] != 8 or self.hexes.size == 0:
-            bad("hexes: expected an (m, 8) array")
-        if self.hexes.min() < 0 or self.hexes.max() >= n:
-            bad("hexes: node index out of range")
-        if self.element not in ELEMENTS:
-            bad(f"element = {self.element!r}: must be one of {', '.join(ELEMENTS)}")
+        for b in self.blocks:
+            name, k = b.element.name, b.element.n_nodes
+            if b.cells.ndim != 2 or b.cells.shape[1] != k or b.cells.size == 0:
+                bad(f"hexes: expected an (m, {k}) array for element {name}, got shape {b.cells.shape}")
+            if b.cells.min() < 0 or b.cells.max() >= n:
+                bad(f"hexes: node index out of range ({name})")
         if self.coupling not in COUPLINGS:
             bad(f"coupling = {self.coupling!r}: must be one of {', '.join(COUPLINGS)}")
         if not (np.isfinite(self.E) and self.E > 0):

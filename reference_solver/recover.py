@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from .condense import CondensedSystem
-from .elements import elasticity_matrix, shape_gradients, von_mises
+from .kinematics import elasticity_matrix, von_mises
 from .path import Solution
-from .stress import GAUSS, extrapolate_to_corners, gauss_strain_operator, nodal_average
+from .stress import extrapolate_to_nodes, nodal_sums
 
 
 def path_fields(system: CondensedSystem, sol: Solution, rows=None) -> np.ndarray:
@@ -25,26 +25,35 @@ def path_fields(system: CondensedSystem, sol: Solution, rows=None) -> np.ndarray
 
 def states_stress(p, U: np.ndarray) -> list[dict]:
     """Stresses of m states with nodal displacements ``U`` (m, n, 3) [m] of problem ``p``; the
-    Gauss-point strain operator is built once (:func:`stress.gauss_strain_operator`).
+    Gauss-point strain operator of each element block is built once (``Element.gauss_strain_operator``).
 
-    Per state a dict: ``cell`` (ne, 6) volume average of the element's stress by its own 2 x 2 x 2
-    quadrature, sum_g sigma_g det J_g / sum_g det J_g [Pa] (so that sum over a layer of elements of
-    cell sigma_zz x volume is the layer's integral of sigma_zz, as in the stiffness); ``cell_von_mises``
-    (ne,) von Mises of that average [Pa]; ``nodal`` (n, 6): Gauss values extrapolated to
-    the corners (trilinear fit, an estimate) and averaged, unweighted, over the elements sharing the node
-    [Pa]; ``nodal_von_mises`` (n,) von Mises of the nodal average [Pa]. Nodes no element touches get 0.
+    Per state a dict: ``cell`` (ne, 6) volume average of the element's stress by its own quadrature,
+    sum_g sigma_g w_g det J_g / sum_g w_g det J_g [Pa] (so that sum over a layer of elements of cell
+    sigma_zz x volume is the layer's integral of sigma_zz, as in the stiffness); ``cell_von_mises``
+    (ne,) von Mises of that average [Pa]; ``nodal`` (n, 6): Gauss values extrapolated to the element
+    nodes (``Element.extrapolation``, an estimate) and averaged, unweighted, over the elements sharing
+    the node [Pa]; ``nodal_von_mises`` (n,) von Mises of the nodal average [Pa]. Nodes no element
+    touches get 0. Elements are numbered block by block (``p.blocks``).
     """
-    xyz = p.nodes[p.hexes]
-    op = gauss_strain_operator(xyz, p.E, p.nu, p.element)                   # (ne, 8, 6, 24)
-    detj = np.stack([np.linalg.det(np.einsum("ia,eaj->eij", shape_gradients(xi), xyz)) for xi in GAUSS], 1)
-    w = detj / detj.sum(axis=1, keepdims=True)                               # (ne, 8) quadrature weights
     D = elasticity_matrix(p.E, p.nu)
+    n = p.nodes.shape[0]
+    ops = []
+    for b in p.blocks:
+        xyz = p.nodes[b.cells]
+        w = b.element.volume_weights(xyz)
+        ops.append((b, b.element.gauss_strain_operator(xyz, p.E, p.nu), w / w.sum(axis=1, keepdims=True)))
     out = []
-    for u in np.asarray(U, float).reshape(-1, p.nodes.shape[0], 3):
-        g = np.einsum("egij,ej->egi", op, u[p.hexes].reshape(len(p.hexes), 24)) @ D.T   # (ne, 8, 6)
-        cell = np.einsum("eg,egk->ek", w, g)
-        nodal, count = nodal_average(extrapolate_to_corners(g), p.hexes, p.nodes.shape[0])
-        nodal = np.where(count[:, None] > 0, nodal, 0.0)
+    for u in np.asarray(U, float).reshape(-1, n, 3):
+        cells, total, count = [], np.zeros((n, 6)), np.zeros(n)
+        for b, op, w in ops:
+            g = np.einsum("egij,ej->egi", op, u[b.cells].reshape(len(b.cells), -1)) @ D.T   # (ne, ng, 6)
+            cells.append(np.einsum("eg,egk->ek", w, g))
+            t, c = nodal_sums(extrapolate_to_nodes(g, b.element), b.cells, n)
+            total += t
+            count += c
+        cell = np.concatenate(cells)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            nodal = np.where(count[:, None] > 0, total / np.maximum(count, 1)[:, None], 0.0)
         out.append({"cell": cell, "cell_von_mises": von_mises(cell),
                     "nodal": nodal, "nodal_von_mises": von_mises(nodal)})
     return out

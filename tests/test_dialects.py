@@ -40,5 +40,5 @@ def test_every_registered_reader_is_listed_and_unknown_dialect_is_refused(tmp_pa
     _load_all()
     assert sorted(READERS) == formats()
     res = CliRunner().invoke(main, ["decks", "-o", str(tmp_path / "d"), "--dialect", "ccx"])
-    assert res.exit_code != 0 and "deck dialect 'ccx': unknown (known: abaqus, calculix, mystran, nastran)" in res.output
+    assert res.exit_code != 0 and "deck dialect 'ccx': unknown (known: abaqus, calculix, mystran, nastran, nastran_surface)" in res.output
     assert not (tmp_path / "d").exists() or not any((tmp_path / "d").iterdir())

@@ -113,12 +113,12 @@ def test_run_end_to_end_on_gmsh_files(written, fmt, ccx, tmp_path):
 
 @pytest.mark.parametrize("noise_deg", [1e-7, 1e-5, 2e-4])
 def test_base_wall_groups_azimuths_off_nominal_by_round_off(noise_deg):
-    """reference_solver.stress.base_wall on a structured 12 x 2 x 3 mesh whose nodes are turned by random
+    """deckbridge.base_wall.base_wall on a structured 12 x 2 x 3 mesh whose nodes are turned by random
     azimuth errors up to ``noise_deg`` (Gmsh's files: 1e-7 deg, 8-character Nastran fields in m: 1e-5 deg,
     in mm: 1.2e-4 deg): the same 12 through-wall rows of 4 nodes and the closed-form linear field s = a +
     b r as without noise (main grouped by rounding to 9 decimals: 'base nodes do not form the same
     through-wall row')."""
-    import reference_solver.stress as st
+    import deckbridge.base_wall as st
     model = load(None, ["mesh.n_theta=12", "mesh.n_z=2", "mesh.n_r=3"])
     mesh = build_mesh(model)
     rng = np.random.default_rng(7)

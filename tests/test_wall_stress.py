@@ -8,6 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+import deckbridge.base_wall as bwm
 import reference_solver as rs
 from deckbridge.errors import DeckbridgeError
 from deckbridge.external.ccx_run import run
@@ -86,7 +87,7 @@ def test_nodal_average_and_through_wall_reduction():
     mesh = build_mesh(model)
     r = np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])
     a, b = -1.0e7, 3.0e8                                           # [Pa], [Pa/m]
-    bw = st.base_wall(mesh.nodes, mesh.hexes[:36], a + b * r)
+    bw = bwm.base_wall(mesh.nodes, mesh.hexes[:36], a + b * r)
     g = model.geometry
     np.testing.assert_allclose(bw.theta_deg, np.arange(12) * 30.0)
     np.testing.assert_allclose(bw.inner, a + b * (g.radius - g.thickness / 2), rtol=1e-12)
@@ -96,7 +97,7 @@ def test_nodal_average_and_through_wall_reduction():
     assert bw.nodes.shape == (12, 4) and np.all(np.diff(bw.radius, axis=1) > 0)
     # s = r^2: the trapezoid rule over 3 equal layers h = t/3 overestimates int r^2 dr / t by h^2 / 6
     ri, ro, h = g.radius - g.thickness / 2, g.radius + g.thickness / 2, g.thickness / 3
-    quad = st.base_wall(mesh.nodes, mesh.hexes[:36], r ** 2)
+    quad = bwm.base_wall(mesh.nodes, mesh.hexes[:36], r ** 2)
     np.testing.assert_allclose(quad.mean, (ro ** 3 - ri ** 3) / (3 * g.thickness) + h ** 2 / 6, rtol=1e-12)
 
 
@@ -122,7 +123,7 @@ def _through_wall_sigma_n(p, sol, row, nodes):
 def test_reference_base_sigma_zz_under_N_alone(top):
     model = load(None, SMALL + [f"load_introduction={top}", "steps.increments=1"])
     mesh, p, sol = _reference(model)
-    bw = st.reference_base_wall(p, sol.fields[1], np.arange(mesh.n_r * mesh.n_theta))
+    bw = bwm.reference_base_wall(p, sol.fields[1], np.arange(mesh.n_r * mesh.n_theta))
     s0 = _sigma_closed_form(model)
     for name in ("inner", "outer", "mean"):
         np.testing.assert_allclose(getattr(bw, name), s0, rtol=0.01, err_msg=name)
@@ -138,7 +139,7 @@ def test_reference_mean_sigma_zz_balances_contact_stress(method):
     residual max |diff| / max |sigma_N| below 1 % (measured 0.16-0.19 %)."""
     model = load(None, SMALL + ["steps.lambda_max=0.5", "steps.increments=1"])
     mesh, p, sol = _reference(model, method)
-    bw = st.reference_base_wall(p, sol.fields[2], np.arange(mesh.n_r * mesh.n_theta))
+    bw = bwm.reference_base_wall(p, sol.fields[2], np.arange(mesh.n_r * mesh.n_theta))
     sn = _through_wall_sigma_n(p, sol, -1, bw.nodes)
     assert sn.max() / sn.min() < 0.2                                 # a strongly varying sigma_N
     assert np.abs(bw.mean - sn).max() / np.abs(sn).max() < 0.01
@@ -185,7 +186,7 @@ def test_ccx_and_reference_agree_at_every_azimuth(ccx_job, method):
     _, p, sol = refs[method]
     tol = 0.02 * abs(_sigma_closed_form(model))
     for step, time in ((1, 1.0), (2, 2.0)):
-        bw = st.reference_base_wall(p, sol.fields[step], np.arange(mesh.n_r * mesh.n_theta))
+        bw = bwm.reference_base_wall(p, sol.fields[step], np.arange(mesh.n_r * mesh.n_theta))
         c = table[table.time == time]
         np.testing.assert_allclose(c.theta_deg, bw.theta_deg, atol=1e-9)
         for k in ("inner", "outer", "mean", "bending"):

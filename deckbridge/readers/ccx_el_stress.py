@@ -31,9 +31,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from reference_solver.stress import CCX_TO_VOIGT, base_wall, extrapolate_to_corners, nodal_average
+from reference_solver.stress import extrapolate_to_corners, nodal_average
 
 from ..errors import DeckbridgeError
+from ..base_wall import CCX_TO_VOIGT, base_wall
 from ..mesh_data import base_wall_areas
 from ..numbering.skirt import bottom_row_index, elem_ids
 from ._files import inp_deck_units
@@ -135,7 +136,7 @@ def base_wall_table(stress: pd.DataFrame, mesh) -> pd.DataFrame:
 
     ``mesh``: the :class:`deckbridge.mesh.SkirtMesh` of the deck (element id = hex index + 1; the bottom
     row is the first n_r * n_theta hexes). Corner stresses of the bottom row are averaged over the row's
-    elements sharing a node, then reduced across the wall by :func:`reference_solver.stress.base_wall`:
+    elements sharing a node, then reduced across the wall by :func:`deckbridge.base_wall.base_wall`:
     columns time, theta_deg, szz_inner_pa, szz_outer_pa, szz_mean_pa (trapezoid over the node radii
     / thickness), szz_bending_pa ((outer - inner) / 2), tension > 0, area_m2 the azimuth's base area
     (:func:`deckbridge.mesh_data.base_wall_areas`). Values are Gauss-point

@@ -1,0 +1,102 @@
+"""The skirt's wall at its base: axial stress across the wall per azimuth (inner, outer, membrane, bending).
+
+Moved here from ``reference_solver.stress`` (issue 22: the solver stays generic; these are the skirt's
+quantities). A leaf of deckbridge: imports the solver's generic stress recovery only, so that both
+:mod:`deckbridge.wall_stress` (reference) and :mod:`deckbridge.readers.ccx_el_stress` (CalculiX) use it.
+Units [m], [Pa]; tension > 0, compression < 0 (as sigma_N). Voigt order (xx, yy, zz, xy, yz, zx).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from reference_solver.azimuths import azimuth_clusters, element_span_deg
+from reference_solver.stress import corner_stress, nodal_average
+
+from .errors import DeckbridgeError
+
+CCX_TO_VOIGT = np.array([0, 1, 2, 3, 5, 4])   # ccx (xx, yy, zz, xy, xz, yz)[CCX_TO_VOIGT] -> (.., yz, zx)
+AXES = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass(frozen=True)
+class BaseWall:
+    """Axial stress across the wall at the base, one entry per azimuth (sorted by ``theta_deg``).
+
+    ``nodes`` (na, nw): base nodes at each azimuth, inner face first (sorted by radius); ``radius``
+    (na, nw) [m]; ``s_axial`` (na, nw) [Pa] their axial stress. ``inner``, ``outer`` [Pa]: the faces;
+    ``mean`` [Pa]: membrane, the trapezoid rule over the node radii divided by the wall thickness,
+    (1 / (r_out - r_in)) int s dr with s linear between nodes; ``bending`` [Pa]: (outer - inner) / 2
+    (> 0 when the outer face is more tensile). Tension > 0, compression < 0 (as sigma_N).
+    """
+    theta_deg: np.ndarray
+    nodes: np.ndarray
+    radius: np.ndarray
+    s_axial: np.ndarray
+    inner: np.ndarray
+    outer: np.ndarray
+    mean: np.ndarray
+    bending: np.ndarray
+
+
+def through_wall_weights(radius: np.ndarray) -> np.ndarray:
+    """Trapezoid weights (na, nw) over the node radii, summing to 1 per azimuth."""
+    dr = np.diff(radius, axis=1)
+    w = np.zeros_like(radius)
+    w[:, :-1] += 0.5 * dr
+    w[:, 1:] += 0.5 * dr
+    return w / w.sum(axis=1, keepdims=True)
+
+
+def base_wall(nodes: np.ndarray, bottom_hexes: np.ndarray, s_axial_nodal: np.ndarray, axis: str = "z",
+              rel_tol: float = 1e-3) -> BaseWall:
+    """Group the base nodes of the bottom element row by azimuth and reduce across the wall.
+
+    ``nodes`` (n, 3) [m], ``bottom_hexes`` (ne, 8) node indices of the bottom element row, the wall's axis
+    through the origin along ``axis`` ('x', 'y' or 'z'); base nodes are the row's nodes at the lowest
+    axial coordinate. ``s_axial_nodal`` (n,) [Pa]: the axial normal stress per node (e.g. column zz of
+    :func:`reference_solver.stress.nodal_average` over the bottom row). Azimuth [deg, 0..360) counter-clockwise
+    about ``axis`` (from +x towards +y for 'z'); nodes whose azimuths agree to ``rel_tol`` of the smallest
+    element's angular span share an azimuth (:func:`reference_solver.azimuths.azimuth_clusters`: an imported
+    mesh's nodes sit off their nominal azimuth by round-off, 1e-7 deg in Gmsh's files, 1e-5 deg in
+    8-character Nastran fields), ``theta_deg`` is each group's mean.
+    """
+    if axis not in AXES:
+        raise DeckbridgeError(f"axis = {axis!r}: must be one of x, y, z")
+    a = AXES[axis]
+    b, c = (a + 1) % 3, (a + 2) % 3
+    nodes = np.asarray(nodes, float)
+    row = np.unique(np.asarray(bottom_hexes, np.int64))
+    h = nodes[row, a]
+    tol = 1e-9 * max(float(np.ptp(nodes, axis=0).max()), 1.0)
+    base = row[h <= h.min() + tol]
+    az = lambda i: np.mod(np.degrees(np.arctan2(nodes[i, c], nodes[i, b])), 360.0)  # noqa: E731
+    span = element_span_deg(az(np.asarray(bottom_hexes, np.int64)))
+    th, centres = azimuth_clusters(az(base), rel_tol * float(span[span > 0].min() if (span > 0).any() else 360.0))
+    rad = np.hypot(nodes[base, b], nodes[base, c])
+    order = np.lexsort((rad, th))
+    base, th, rad = base[order], th[order], rad[order]
+    uth, counts = np.unique(th, return_counts=True)
+    uth = centres[uth]
+    if np.any(counts != counts[0]) or counts[0] < 2:
+        raise DeckbridgeError("bottom_hexes: base nodes do not form the same through-wall row at every azimuth")
+    shape = (uth.size, int(counts[0]))
+    nd, rr = base.reshape(shape), rad.reshape(shape)
+    s = np.asarray(s_axial_nodal, float)[nd]
+    if not np.all(np.isfinite(s)):
+        raise DeckbridgeError("s_axial_nodal: NaN or infinite at a base node")
+    inner, outer = s[:, 0], s[:, -1]
+    mean = np.sum(through_wall_weights(rr) * s, axis=1)
+    return BaseWall(theta_deg=uth, nodes=nd, radius=rr, s_axial=s, inner=inner, outer=outer,
+                    mean=mean, bending=0.5 * (outer - inner))
+
+
+def reference_base_wall(p, u: np.ndarray, bottom_elems: np.ndarray, axis: str = "z") -> BaseWall:
+    """:func:`base_wall` of the reference solution: element-node stresses of the bottom row ``bottom_elems``
+    (element indices of the solver problem ``p``) averaged over the row's elements sharing a node; axial
+    component."""
+    bottom = p.hexes[np.asarray(bottom_elems, np.int64)]
+    avg, _ = nodal_average(corner_stress(p, u, bottom_elems), bottom, p.nodes.shape[0])
+    return base_wall(p.nodes, bottom, avg[:, AXES[axis]], axis)

@@ -1,0 +1,100 @@
+"""Face-weighted quantities of a contact surface: the face matrix M, its lumped form, pressure projection.
+
+For a surface made of element faces (any face type of :mod:`element_faces`: quad4, quad8, tri3, tri6),
+with face shape functions N_a:
+
+- shares   s_a  = int N_a dA                 [m^2]  (the consistent load of a unit pressure);
+- matrix   M_ab = int N_a N_b dA              [m^2]  (consistent, symmetric positive definite);
+- lumped   m_a  = sum_b M_ab = s_a            [m^2]  (row sums; on 4-node faces: the tributary areas);
+- pressure sigma_N = -M^-1 r                  [Pa]   (L2 projection of nodal forces r [N], r > 0 pressing
+  the body onto the surface, so sigma_N < 0 is compression).
+
+Under a uniform pressure p an 8-node face gives its corners -1/12 of p A and its mid-side nodes +1/3; a
+6-node face gives its corners 0 and its mid-side nodes 1/3 (``docs/elements.md``). A law with a sign
+condition on *nodal* forces (node-to-surface, CGAP) therefore opens the corners of quadratic faces at any
+load; a face-weighted law does not.
+
+How a contact law uses these (the law itself lives with the contact laws, not here):
+1. Build the surface once: :func:`surface_faces` (faces whose nodes all lie on the surface) then
+   :func:`face_matrix` -> ``(surface_nodes, M)`` (sparse, surface-local numbering).
+2. Weighted gap: g~ = M g (nodal gaps g [m] -> g~ [m^3]); penalty with slope k_A [Pa/m]: the pressure field
+   p = k_A <-g>_+ gives nodal forces r = M p (consistent) or r = m p (lumped; on 4-node faces this is
+   today's k_c = k_A x tributary area per node).
+3. Lagrange: one multiplier per surface node, the pressure field lambda [Pa]; nodal forces r = M lambda;
+   the sign condition is on lambda (or on the weighted gap), never on r.
+4. Report sigma_N = :func:`project_pressure` (M, r) (= -lambda for the Lagrange law), node by node.
+With ``lumped=True`` every step uses the diagonal m instead of M (a mortar law with a diagonal M). Row-sum
+lumping is for 4-node and 3-node faces only: on 8-node faces its corner entries are negative (-1/12 of A)
+and on 6-node faces zero, so a diagonal law there needs the consistent M (or a dual basis), never m.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .element_faces import FaceType
+from .errors import ReferenceSolverError
+
+
+def face_shares(face: FaceType, xyz: np.ndarray) -> np.ndarray:
+    """int N_a dA (nf, k) [m^2] of faces ``xyz`` (nf, k, 3) of type ``face``."""
+    jw = face.area_jacobian(np.asarray(xyz, float)) * face.weights           # (nf, p)
+    return jw @ face.shape(face.points)
+
+
+def face_mass(face: FaceType, xyz: np.ndarray) -> np.ndarray:
+    """int N_a N_b dA (nf, k, k) [m^2] of faces ``xyz`` (nf, k, 3) of type ``face`` (consistent)."""
+    jw = face.area_jacobian(np.asarray(xyz, float)) * face.weights
+    N = face.shape(face.points)                                              # (p, k)
+    return np.einsum("fp,pa,pb->fab", jw, N, N)
+
+
+def surface_faces(blocks, on_surface: np.ndarray) -> list[tuple[FaceType, np.ndarray]]:
+    """Faces of the element ``blocks`` (each with ``element`` and ``cells``) whose nodes all have
+    ``on_surface`` (bool per node) true, grouped by face type: [(face type, connectivity (nf, k)), ...].
+    ``on_surface`` should mark a boundary surface (an inner face would appear once per element)."""
+    on = np.asarray(on_surface, bool)
+    out: dict[str, list] = {}
+    types: dict[str, FaceType] = {}
+    for b in blocks:
+        for local, ftype in zip(b.element.faces, b.element.face_types):
+            conn = b.cells[:, list(local)]
+            hit = on[conn].all(axis=1)
+            if hit.any():
+                out.setdefault(ftype.name, []).append(conn[hit])
+                types[ftype.name] = ftype
+    return [(types[k], np.concatenate(v)) for k, v in out.items()]
+
+
+def face_matrix(nodes: np.ndarray, faces, lumped: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
+    """Surface nodes (m,) and the assembled M (m x m, CSR) [m^2] of ``faces`` [(face type, conn), ...]
+    (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead."""
+    if not faces:
+        raise ReferenceSolverError("contact surface: no element face has all its nodes on it")
+    nodes = np.asarray(nodes, float)
+    surf = np.unique(np.concatenate([c.ravel() for _, c in faces]))
+    rows, cols, vals = [], [], []
+    for ftype, conn in faces:
+        Me = face_mass(ftype, nodes[conn])
+        loc = np.searchsorted(surf, conn)
+        k = conn.shape[1]
+        rows.append(np.repeat(loc, k, axis=1).ravel())
+        cols.append(np.tile(loc, (1, k)).ravel())
+        vals.append(Me.ravel())
+    M = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(surf.size, surf.size))
+    if lumped:
+        M = sp.diags(np.asarray(M.sum(axis=1)).ravel()).tocsr()
+    return surf, M
+
+
+def project_pressure(M: sp.spmatrix, r: np.ndarray) -> np.ndarray:
+    """sigma_N = -M^-1 r [Pa] (< 0 compression) of nodal normal forces ``r`` [N] (> 0 pressing the body
+    onto the surface), surface-local order of :func:`face_matrix`: the L2 projection of the pressure."""
+    M = sp.csc_matrix(M)
+    r = np.asarray(r, float)
+    if M.nnz == M.shape[0] and np.all(M.diagonal() > 0) and (abs(M - sp.diags(M.diagonal())).sum() == 0):
+        return -r / M.diagonal()
+    return -spla.spsolve(M, r)

@@ -1,0 +1,143 @@
+"""The Simcenter surface-contact deck: read back by pyNastran with cross-referencing, card by card against the
+layout of the real Femap-written Simcenter model (../shared/data/nx_surface_contact), geometry against closed
+forms. MYSTRAN is not a check here: it accepts these cards and ignores them (REFERENCE.md section 9).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pyNastran.bdf.bdf import read_bdf
+
+from deckbridge.dialects import DIALECTS
+from deckbridge.mesh import build_mesh
+from deckbridge.model import load
+from deckbridge.numbering.nastran import numbering
+from deckbridge.readers.nastran_contact import source_faces
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "nx_surface_contact"
+needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"shared Simcenter surface-contact model absent ({DATA})")
+CONTACT_CARDS = {"BSURFS", "BCRPARA", "BCTSET", "BCTPARM", "BCTADD", "BSURF", "BCPROP", "BCTPARA"}
+SMALL = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=2"]
+
+
+def _deck(tmp_path, overrides=()):
+    model = load(None, list(overrides))
+    (path,) = DIALECTS["nastran_surface"].write(model, build_mesh(model), tmp_path)
+    return model, path
+
+
+def _face_of(bdf, eid, three):
+    """The corner grids of the face of element ``eid`` that holds the three grids (pyNastran's face table)."""
+    faces = [f for f in bdf.elements[eid].faces.values() if set(three) <= set(f)]
+    assert len(faces) == 1, (eid, three)
+    return faces[0]
+
+
+def _area(bdf, face):
+    x = np.array([bdf.nodes[g].get_position() for g in face])
+    return 0.5 * np.linalg.norm(np.cross(x[2] - x[0], x[3] - x[1])), x
+
+
+def _case_lines(path: Path) -> list[str]:
+    text = path.read_text()
+    return [ln.strip() for ln in text[:text.index("BEGIN BULK")].splitlines() if ln.strip() and not ln.startswith("$")]
+
+
+def test_read_back_with_cross_referencing(tmp_path):
+    model, path = _deck(tmp_path, SMALL)
+    bdf = read_bdf(str(path), xref=True, debug=None)          # raises on a dangling reference
+    mesh = build_mesh(model)
+    nt, nr = 24, 2
+    assert bdf.card_count["BSURFS"] == 4 and bdf.card_count["BCRPARA"] == 4 and bdf.card_count["BCTSET"] == 1
+    ct = bdf.bctsets[1]
+    assert (ct.sids, ct.tids) == ([1, 3], [2, 4]) and ct.frictions == [0.0, 0.0]
+    assert len(bdf.bsurfs[1].eids) == nt * nr and len(bdf.bsurfs[3].eids) == nt
+    # every target-layer grid is clamped, and no skirt grid is
+    clamped = {n for spc in bdf.spcs[1] for n in spc.node_ids}
+    ref = numbering(mesh).ref_node
+    assert ref in bdf.nodes and clamped == {n for n in bdf.nodes if n > ref}
+    assert len(clamped) == 2 * (nt * (nr + 1)) + 2 * (2 * nt)       # table layer 2 x base grids, stop layer 2 x wall grids
+    layer = [e for e in bdf.elements.values() if e.type == "CHEXA" and e.pid == 2]
+    assert len(layer) == nt * nr + nt and min(e.Volume() for e in layer) > 0
+    assert "BCSET = 1" in _case_lines(path) and "BCRESULTS(TRACTION,FORCE,SEPDIS) = ALL" in _case_lines(path)
+
+
+def test_table_faces_cover_the_base_annulus_and_meet_their_targets(tmp_path):
+    model, path = _deck(tmp_path, SMALL)
+    bdf = read_bdf(str(path), xref=True, debug=None)
+    g, nt = model.geometry, 24
+    ro, ri = g.radius + g.thickness / 2, g.radius - g.thickness / 2
+    polygon = 0.5 * nt * math.sin(2 * math.pi / nt) * (ro ** 2 - ri ** 2)        # the faceted base annulus
+    src, tgt = bdf.bsurfs[1], bdf.bsurfs[2]
+    total, tops = 0.0, {}
+    for e, *three in zip(tgt.eids, tgt.g1s, tgt.g2s, tgt.g3s):
+        a, x = _area(bdf, _face_of(bdf, e, three))
+        tops[tuple(sorted(map(tuple, np.round(x, 12))))] = a
+    for e, *three in zip(src.eids, src.g1s, src.g2s, src.g3s):
+        a, x = _area(bdf, _face_of(bdf, e, three))
+        assert np.allclose(x[:, 2], 0.0)                                       # base faces at z = 0
+        key = tuple(sorted(map(tuple, np.round(x, 12))))
+        assert tops[key] == pytest.approx(a, rel=1e-12)                        # clearance 0: the table top meets it
+        total += a
+    assert total == pytest.approx(polygon, rel=1e-12)
+    # the stop target faces sit on the stop radius (clearance 0 here: the skirt's inner wall)
+    for e, *three in zip(bdf.bsurfs[4].eids, bdf.bsurfs[4].g1s, bdf.bsurfs[4].g2s, bdf.bsurfs[4].g3s):
+        _, x = _area(bdf, _face_of(bdf, e, three))
+        assert np.hypot(x[:, 0], x[:, 1]) == pytest.approx(np.full(4, ri), rel=1e-12)
+
+
+def test_reader_places_the_decks_own_faces(tmp_path):
+    """The OP2 reader's geometry path on this deck: source grids = table slaves + stop wall face grids,
+    shares summing to the faces' area, surfaces told apart by their normals."""
+    model, path = _deck(tmp_path, SMALL)
+    mesh = build_mesh(model)
+    sf = source_faces(path)
+    table_ids = set((mesh.table.nodes + 1).tolist())
+    assert table_ids <= set(sf.xyz)
+    assert {n for r, n in sf.share if r == 1} == table_ids
+    assert sum(sf.share[1, n] for n in table_ids) == pytest.approx(float(mesh.table.area.sum()), rel=1e-12)
+    assert all(abs(sf.normal[1, n][2]) > 0.99 for n in table_ids)
+    stop = {n for r, n in sf.share if r == 3}
+    assert set((mesh.stop.nodes + 1).tolist()) < stop and all(abs(sf.normal[3, n][2]) < 1e-9 for n in stop)
+
+
+@needs_data
+def test_layout_follows_the_real_simcenter_deck(tmp_path):
+    _, path = _deck(tmp_path, SMALL)
+    ours = read_bdf(str(path), xref=True, debug=None)
+    real = read_bdf(str(DATA / "contact_model.bdf"), xref=True, debug=None)
+    kinds = lambda b: {c for c in b.card_count if c in CONTACT_CARDS}            # noqa: E731
+    # the same contact card types, less BCTPARM (no parameter whose meaning and default could be confirmed)
+    assert kinds(real) - kinds(ours) == {"BCTPARM"} and kinds(ours) <= kinds(real)
+    for b in (ours, real):
+        ct = next(iter(b.bctsets.values()))
+        assert set(ct.sids) | set(ct.tids) == set(b.bsurfs) == set(b.bcrparas)   # every region paired and parametrised
+        assert all(d > 0 for d in ct.max_distances)
+        for bs in b.bsurfs.values():                                          # element + three grids of one face
+            for e, *three in zip(bs.eids, bs.g1s, bs.g2s, bs.g3s):
+                _face_of(b, e, three)
+        case = _case_lines(path) if b is ours else _case_lines(DATA / "contact_model.bdf")
+        assert any(re.fullmatch(rf"BCSET = {ct.csid}", ln) for ln in case)
+        res = next(ln for ln in case if ln.startswith("BCRESULTS"))
+        assert {"TRACTION", "FORCE", "SEPDIS"} <= set(res[res.index("(") + 1:res.index(")")].split(","))
+        assert any(ln.startswith("SOL 101") or ln == "SOL SESTATIC" for ln in case)
+
+    def bcrpara_fields(text):
+        return [ln[8:40] for ln in text.splitlines() if ln.startswith("BCRPARA")]
+    # BCRPARA field usage as Femap writes it: CRID, SURF blank, OFFSET 0., TYPE blank
+    for f in bcrpara_fields(path.read_text()) + bcrpara_fields((DATA / "contact_model.bdf").read_text()):
+        assert f[8:16].strip() == "" and float(f[16:24]) == 0.0 and f[24:32].strip() == ""
+
+
+def test_friction_variant_writes_fric_and_no_springs(tmp_path):
+    _, path = _deck(tmp_path, SMALL + ["contact.friction=0.2", "contact.tangential=friction"])
+    bdf = read_bdf(str(path), xref=True, debug=None)
+    assert bdf.bctsets[1].frictions == [0.2, 0.0] and "CELAS2" not in bdf.card_count
+    _, path = _deck(tmp_path, SMALL + ["contact.stop.side=none"])
+    bdf = read_bdf(str(path), xref=True, debug=None)
+    assert set(bdf.bsurfs) == {1, 2} and bdf.bctsets[1].sids == [1] and bdf.card_count["CELAS2"] == 24 * 3
