@@ -111,3 +111,20 @@ def test_the_notebook_slot_renders_cells_and_outputs(tmp_path):
     assert "# Load the model" in md and "```python\nprint(2 + 2)\n```" in md and "```text\n4\n```" in md
     missing = hook["on_page_markdown"]("<!-- notebook: notebooks/none.ipynb -->", None, {"docs_dir": str(tmp_path)}, None)
     assert "not in this checkout yet" in missing
+
+
+def test_every_markdown_page_of_docs_is_in_the_nav():
+    """A page written under docs/ but left out of mkdocs.yml's nav would be built yet unreachable."""
+    import yaml
+
+    nav = yaml.safe_load((ROOT / "mkdocs.yml").read_text(encoding="utf-8"))
+    listed = set()
+
+    def walk(items):
+        for it in items:
+            for v in it.values():
+                walk(v) if isinstance(v, list) else listed.add(v)
+    walk(nav["nav"])
+    docs = ROOT / "docs"
+    pages = {str(p.relative_to(docs)) for p in docs.rglob("*.md") if "hooks" not in p.parts}
+    assert pages - listed == set(), pages - listed
