@@ -117,7 +117,7 @@ def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: flo
                 echo(f"  warning: lambda = {pt.load_factor:.4g}: table node(s) {ex['free_penetration_nodes']} "
                      f"penetrate up to {ex['free_penetration_m'] * 1e3:.3g} mm with no contact force "
                      "(the solver's contact search missed them?)")
-    paths = write_report(result, out, model=model)
+    paths = write_report(result, out, model=model, extra={"condensed": (mesh, system)})   # the verdict reuses them
     report = out / "report.html"
     echo(f"report: {report} ({time.perf_counter() - t0:.1f} s in all)")
     return {"report": report, "paths": paths, "reference": summaries, "comparison": result}

@@ -5,7 +5,8 @@ reads no input file: it draws what the comparison's source records carry
 (:class:`deckbridge.results.SourceResult`: global figures and fields, see
 :func:`deckbridge.readers.reference.read_source`). ``extra`` (optional dict): 'inputs' {label: text
 shown as the input}, 'global' {label: {'max_von_mises_pa', 'max_displacement_m', 'from'}} (replaces
-the records' figures), 'notes' [lines added to the report], 'verdict' (False: no verdict section), 'tol'.
+the records' figures), 'notes' [lines added to the report], 'verdict' (False: no verdict section), 'tol',
+'condensed' ((mesh, condensed system) of ``model``, reused by the verdict).
 With a model and a penalty source the report opens with the verdict on the penalty (:mod:`.verdict`):
 converged or not against Lagrange, penetration / t, the KA to write in the deck; summary.json 'verdict'.
 """
@@ -97,7 +98,8 @@ def _verdict(result: ComparisonResult, model, extra: dict) -> tuple[dict, list[d
     if model is None or not extra.get("verdict", True) or not any(s.method == "penalty" for s in result.series):
         return None
     try:
-        verdict = penalty_verdict(model, extra.get("tol", DEFAULT_TOL), model_path=extra.get("model_path", "MODEL"))
+        verdict = penalty_verdict(model, extra.get("tol", DEFAULT_TOL), model_path=extra.get("model_path", "MODEL"),
+                                  condensed=extra.get("condensed"))
     except DeckbridgeError as exc:        # the report still stands; the verdict says why it is missing
         verdict = {"error": str(exc)}
     return verdict, measured_rows(result, model)

@@ -34,7 +34,7 @@ from ..solve import PENALTY_RATIO, penalty_ratio
 from ..studies.cases import Case, mesh_variants
 from ..studies.metrics import variant_metrics
 from ..studies.recommend import deck_terms, node_stiffness, onset_gap, reproduces, terms_text
-from ..studies.tasks import condense_variant, solve_case
+from ..studies.tasks import Condensed, condense_variant, solve_case
 
 DEFAULT_TOL = 0.02
 
@@ -56,17 +56,21 @@ def _ladder(model: Model) -> list[float]:
 
 
 def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | None = None,
-                    model_path: str = "MODEL") -> dict:
+                    model_path: str = "MODEL", condensed: tuple | None = None) -> dict:
     """The verdict on the model's penalty and the recommended deck penalty (see the module doc).
 
     Returns a JSON-able dict: 'tol', 'onset_tol', 'lagrange' (onset, peak), 'model_penalty' (the
     penalty as written: worst |Delta sigma_N| / peak, onset difference, penetration [m] and / t,
     'converged'), 'evaluated' (every k-factor solved, ascending), 'recommended' (deck terms of the
-    smallest k-factor solved that reproduces Lagrange, or None), 'command' (the sweep that checks it)."""
+    smallest k-factor solved that reproduces Lagrange, or None), 'command' (the sweep that checks it).
+    ``condensed``: (mesh, condensed system) of ``model`` already built (``run`` passes its own), else built here."""
     onset_tol = tol if onset_tol is None else onset_tol
     variant = mesh_variants(model)[0]
     md = model.to_dict()
-    cond = condense_variant(md, light=False)      # in process: the factor stays (friction systems need it)
+    if condensed is None:
+        cond = condense_variant(md, light=False)  # in process: the factor stays (friction systems need it)
+    else:
+        cond = Condensed(condensed[0], condensed[1], 0.0, "this process", md)
     k_c = node_stiffness(cond.mesh)
     lag = Case(variant, "lagrange")
     tables, records, series = {}, {}, {}
