@@ -21,6 +21,7 @@ import time
 from pathlib import Path
 from typing import Callable
 
+from . import summary_keys as K
 from .compare import compare_tables
 from .compare.onsets import describe
 from .friction_table import read_friction
@@ -67,7 +68,7 @@ def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: flo
         df, summary, sol = solve_system(model, mesh, system, method, recover=model.outputs.vtu)
         folder = out / f"reference_{method}"
         lam_s, th_s = reference_section_onset(system, mesh, sol)
-        summary["section_liftoff_load_factor"], summary["section_liftoff_theta_deg"] = lam_s, th_s
+        summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = lam_s, th_s
         summary["caveats"] = reference_caveats(model, mesh, system, sol)
         write_outputs(folder, model, system, sol, df, summary, mesh)
         wall = reference_wall(system, mesh, sol)

@@ -1,26 +1,53 @@
-"""Ceilings checked from the model and the options before any work is done (nothing is allocated).
+"""Ceilings checked from the model and the options before any work is done.
 
-Memory of a solve, estimated from the structured mesh alone: dof = 3 x n_theta x (n_z + 1) x (n_r + 1)
-(an imported mesh, ``mesh.file``: 3 x its node count, the file read once for it)
-and bytes = BASE_BYTES + BYTES_PER_DOF x dof, a line above the peak resident memory measured for the
-reference solver (README: 0.25 GB at 20k dof, 0.96 GB at 100k, 3.8 GB at 400k, 10.5 GB at 1M dof).
+Memory of a solve (``check_memory``), in two tiers:
+- ``quick_estimate``, arithmetic on the mesh keys (nothing allocated, microseconds): dof = 3 x n_theta x
+  (n_z + 1) x (n_r + 1) (an imported mesh, ``mesh.file``: 3 x its node count, the file read once for it),
+  bytes = 250 MiB + BYTES_PER_DOF x dof + DENSE_BYTES x nr^2 with nr <= n_theta (2 (n_r + 1) + 1)
+  retained dofs (table and stop normals, tangential springs; twice that with friction), plus with
+  ``outputs.vtu`` the strain operator for dof / 3 hexahedra. Meant as an upper bound: a model under it
+  starts at once.
+- ``symbolic_estimate``, from the mesh's own symbolic factorisation (CHOLMOD ``analyze`` of its node
+  graph gives the factor's entries before any numeric work; :mod:`reference_solver.estimate`) plus the
+  arrays the command holds: the load path (:func:`reference_solver.estimate.estimate_peak_bytes`) and,
+  with ``outputs.vtu``, the VTU stage (the factor still held for the recovery, every state's
+  displacements, the Gauss-point strain operator being built, the states' fields). Run only when the
+  quick bound does not fit (it builds the mesh and its graph: seconds at 1M dof).
 A model whose estimate exceeds the memory available now (psutil when installed, else /proc/meminfo
-MemAvailable) is refused with the estimate in the message, unless ``--allow-large`` is given or the
-environment sets ``DECKBRIDGE_ALLOW_LARGE=1``. Even then, a mesh whose stiffness matrix alone
-(FLOOR_BYTES_PER_DOF, well below the measured peak) exceeds the machine's memory and swap together is
-refused naming the mesh keys: numpy would fail with "Unable to allocate ... EiB". Other caps bound work that memory does not: k-factors,
-cases of a study, workers, liftoff tolerance (``steps.increments`` is capped in the model).
+MemAvailable) is refused with one line naming the mesh keys and the estimate, unless ``--allow-large``
+is given or the environment sets ``DECKBRIDGE_ALLOW_LARGE=1``. Even then, a mesh whose stiffness matrix
+alone (FLOOR_BYTES_PER_DOF, well below the measured peak) exceeds the machine's memory and swap
+together is refused naming the mesh keys: numpy would fail with "Unable to allocate ... EiB". Other caps
+bound work that memory does not: k-factors, cases of a study, workers, liftoff tolerance
+(``steps.increments`` is capped in the model).
 """
 
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass, field
+
+import numpy as np
 
 from .errors import InputError
 
 BASE_BYTES = 0.15e9          # interpreter, numpy/scipy, pandas [bytes]
 BYTES_PER_DOF = 10.5e3       # measured peak, factorisation + Schur complement included [bytes/dof]
 FLOOR_BYTES_PER_DOF = 1e3    # the sparse stiffness alone (>= 81 nonzeros x 12 bytes per row) [bytes/dof]
+QUICK_BASE_BYTES = 250 * 2**20   # reference_solver.estimate.BASE_BYTES (not imported: the quick bound imports nothing)
+DENSE_BYTES = 10 * 8         # about ten nr x nr float64 arrays of the condensed contact problem [bytes/entry]
+SYMBOLIC_MAX_DOFS = 30e6     # above: refused on the quick estimate alone (the symbolic analysis itself would take GBs)
+# VTU stage (outputs.vtu), per element: the (8 Gauss points, 6, 24) float64 strain operator of
+# reference_solver.stress.gauss_strain_operator, built with about three such arrays alive at once
+STRAIN_OPERATOR_BYTES = 8 * 6 * 24 * 8
+STRAIN_OPERATOR_COPIES = 3.0      # measured 2.3-3.05 (bench/README.md); the code holds up to 3.4 at once
+# the symbolic estimate's other terms (solve_estimate), fitted on the measured peaks of bench/memory_guard.py
+PROCESS_BYTES = 170 * 2**20        # interpreter, NumPy/SciPy/pandas/CHOLMOD, deckbridge
+FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and CHOLMOD's workspace
+SPLIT_BYTES_PER_NODE = 230 * 27    # node-pair blocks, their indices and the permuted CSC triangle
+PATH_DENSE_ARRAYS = 6.5            # nr x nr float64 arrays alive at once on the load path (Schur, contact)
+VTU_DENSE_ARRAYS = 4               # ... still held while the VTUs are written
+ESTIMATE_MARGIN = 1.05             # for what the fit does not hold (allocator, the other method): 1.08-1.19 x measured
 ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
 MAX_K_FACTORS = 100
 MAX_CASES = 2000             # cases of one study (mesh variants x (k-factors + 1))
@@ -37,8 +64,88 @@ def dofs(n_theta: int, n_z: int, n_r: int) -> int:
 
 
 def estimate_bytes(n_dofs: int) -> float:
-    """Estimated peak memory of one reference solve of ``n_dofs`` degrees of freedom [bytes]."""
+    """Peak memory of one reference solve of ``n_dofs`` degrees of freedom from the dof count alone
+    [bytes] (the line of the first measurements; :func:`quick_estimate` adds the dense contact block)."""
     return BASE_BYTES + BYTES_PER_DOF * float(n_dofs)
+
+
+def _imported(model) -> bool:
+    return getattr(model.mesh, "file", None) is not None
+
+
+def retained_bound(model) -> int:
+    """Upper bound of the retained (condensed) dofs of a structured mesh: per azimuth the table's and the
+    stop's normals and the tangential springs of the n_r + 1 base nodes; x2 with friction. 0 for an
+    imported mesh (its sets are not known without reading them)."""
+    if _imported(model):
+        return 0
+    m = model.mesh
+    per_azimuth = 2 * (int(m.n_r) + 1) + 1
+    friction = getattr(model.contact, "tangential", "") == "friction"
+    return int(m.n_theta) * per_azimuth * (2 if friction else 1)
+
+
+def model_dofs(model) -> int:
+    """Dofs of the model's mesh: arithmetic for the structured mesh, 3 x the node count of an imported file."""
+    m = model.mesh
+    if _imported(model):           # an imported mesh: 3 dof per node of the file (read once here)
+        from .importers.read import read_mesh_file
+        return 3 * int(read_mesh_file(m.file).node_ids.size)
+    return dofs(m.n_theta, m.n_z, m.n_r)
+
+
+def quick_estimate(model, n_dofs: int | None = None) -> float:
+    """Arithmetic upper estimate of one solve's peak memory [bytes] (see the module doc); with
+    ``outputs.vtu`` the strain operator of the VTU stage on top (hexahedra <= nodes = dofs / 3)."""
+    n = model_dofs(model) if n_dofs is None else n_dofs
+    vtu = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * n / 3.0 if model.outputs.vtu else 0.0
+    return (QUICK_BASE_BYTES + BYTES_PER_DOF * float(n)
+            + DENSE_BYTES * float(retained_bound(model)) ** 2 + vtu)
+
+
+@dataclass
+class Estimate:
+    """Peak memory of a solve from the mesh's symbolic factorisation: ``bytes`` the peak, ``parts`` the
+    stages it is the largest of [bytes], ``factor_entries`` of the Cholesky factor."""
+    bytes: float
+    dofs: int
+    retained: int
+    factor_entries: int
+    parts: dict = field(default_factory=dict)
+
+
+def symbolic_estimate(model, mesh=None) -> Estimate:
+    """Peak memory of ``deckbridge solve`` on ``model`` from its mesh's own symbolic factorisation."""
+    from reference_solver import estimate
+    from .mesh import build_mesh
+    from .solve import build_problem
+    p = build_problem(model, mesh or build_mesh(model))
+    nr = int(p.n_contacts + p.n_springs)
+    nL = estimate.factor_entries(p.hexes, p.n_nodes)
+    if nL is None:                                  # no CHOLMOD: the shell fit of reference_solver.estimate
+        nL = int(26.0 * 3 * p.n_nodes * max(1.0, float(np.log2(max(3 * p.n_nodes, 2)))))   # its shell fit
+    nL += nr * (nr + 1) // 2                        # the retained dofs are ordered last: a dense trailing block
+    rows = int(model.steps.increments) + 2          # states of the series (end of step 1, increments 0..n)
+    return solve_estimate(p.n_nodes, len(p.hexes), nr, nL, rows, bool(model.outputs.vtu))
+
+
+def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: int, states: int,
+                   vtu: bool = True) -> Estimate:
+    """The peak [bytes] of a solve of ``n_nodes`` nodes, ``n_hex`` hexahedra, ``n_retained`` retained
+    dofs and a factor of ``factor_entries`` entries, writing ``states`` VTUs when ``vtu``: the largest of
+    the split (K as node-pair blocks and its permuted triangle), the load path (the factor, about
+    PATH_DENSE_ARRAYS nr x nr arrays) and the VTU stage (the factor still held, every state's fields, the
+    strain operator being built). Monotone in every argument. Fitted on `deckbridge solve` (penalty) at
+    100k dof, five proportions (bench/README.md): estimate / measured peak 1.08-1.19."""
+    n, N, nr2 = int(n_nodes), 3 * int(n_nodes), float(n_retained) ** 2
+    base = PROCESS_BYTES + 200 * n + 130 * n_hex                 # interpreter and libraries, mesh, problem
+    factor = FACTOR_BYTES_PER_ENTRY * float(factor_entries)
+    parts = {"split": base + SPLIT_BYTES_PER_NODE * n, "load_path": base + factor + PATH_DENSE_ARRAYS * 8 * nr2}
+    if vtu:
+        fields = states * 8 * (N + 7 * n + 7 * n_hex)          # displacements, nodal and cell stresses per state
+        operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * n_hex
+        parts["vtu"] = base + factor + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator
+    return Estimate(ESTIMATE_MARGIN * max(parts.values()), N, int(n_retained), int(factor_entries), parts)
 
 
 def available_bytes() -> float | None:
@@ -75,31 +182,39 @@ def allow_large_from_env() -> bool:
     return os.environ.get(ALLOW_ENV, "").strip().lower() in ("1", "true", "yes")
 
 
-def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = "") -> float:
-    """Refuse ``model`` (one line, the estimate in it) when ``copies`` solves would not fit in memory.
+def _mesh_name(model) -> str:
+    m = model.mesh
+    if _imported(model):
+        return f"mesh {m.file}"
+    return f"mesh.n_theta x mesh.n_z x mesh.n_r = {m.n_theta} x {m.n_z} x {m.n_r}"
 
-    Returns the estimate [bytes]. Pure arithmetic: refuses n_theta = 10^6 in microseconds.
+
+def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = "", mesh=None) -> float:
+    """Refuse ``model`` (one line naming the mesh keys, the estimate in it) when ``copies`` solves would
+    not fit in the memory available now; returns the estimate [bytes].
+
+    The quick arithmetic bound first (refuses n_theta = 10^6 in microseconds); when it does not fit, the
+    estimate from the mesh's symbolic factorisation decides (:func:`symbolic_estimate`, ``mesh`` when
+    already built), so that a model that fits is not refused on the bound alone.
     """
     m = model.mesh
-    n = dofs(m.n_theta, m.n_z, m.n_r)
-    if getattr(m, "file", None) is not None:   # an imported mesh: 3 dof per node of the file (read once here)
-        from .importers.read import read_mesh_file
-        n = 3 * int(read_mesh_file(m.file).node_ids.size)
-    need = copies * estimate_bytes(n)
+    n = model_dofs(model)
     if allow_large or allow_large_from_env():
         total = total_bytes()
         if total is not None and copies * FLOOR_BYTES_PER_DOF * n > total:     # --allow-large cannot help
-            name = (f"mesh.file = {str(m.file)!r}" if getattr(m, "file", None) is not None else
+            name = (f"mesh.file = {str(m.file)!r}" if _imported(model) else
                     f"mesh.n_theta x mesh.n_z x mesh.n_r = {m.n_theta} x {m.n_z} x {m.n_r}")
             raise InputError(f"{name}{what}: {n:,} dofs need at least {copies * FLOOR_BYTES_PER_DOF * n / 1e9:.3g} "
                              f"GB (the stiffness matrix alone), more than this machine's memory and swap "
                              f"({total / 1e9:.3g} GB), even with --allow-large: use a coarser mesh")
-        return need
+        return copies * quick_estimate(model, n)
     have = available_bytes()
+    need, how = copies * quick_estimate(model, n), "arithmetic bound"
+    if have is not None and need > have and n <= SYMBOLIC_MAX_DOFS and copies * FLOOR_BYTES_PER_DOF * n <= have:
+        need, how = copies * symbolic_estimate(model, mesh).bytes, "from its symbolic factorisation"
     if have is not None and need > have:
         each = f" ({copies} at once)" if copies > 1 else ""
-        name = m.file if getattr(m, "file", None) is not None else f"{m.n_theta}x{m.n_z}x{m.n_r}"
-        raise InputError(f"mesh {name}{what}: {n:,} dofs need about {need / 1e9:.3g} GB{each}, "
+        raise InputError(f"{_mesh_name(model)}{what}: {n:,} dofs need about {need / 1e9:.3g} GB{each} ({how}), "
                          f"{have / 1e9:.3g} GB available: use a coarser mesh, or --allow-large "
                          f"(or {ALLOW_ENV}=1) to try anyway")
     return need

@@ -249,6 +249,12 @@ class Model:
         return yaml.safe_dump(self.to_dict(), sort_keys=False)
 
     def with_overrides(self, overrides: Mapping[str, Any] | list[str]) -> "Model":
+        """A new validated model with some values changed (this one is frozen and stays as it is).
+
+        ``overrides``: a mapping of dotted keys to values, ``{"mesh.n_theta": 48, "loads.M": 2.5e6,
+        "contact.penalty.alpha": 1.0}`` (values in the model's units: SI, see the model reference), or the
+        CLI's ``--set`` texts ``["mesh.n_theta=48"]``. A key inside a mapping null by default reaches into it
+        (``"contact.pads.count"``). An unknown key or a bad value raises :class:`ModelError` naming it."""
         return Model.from_dict(apply_overrides(self.to_dict(), overrides))
 
     # --- derived quantities -------------------------------------------------------------

@@ -20,15 +20,29 @@ Point data (SI; 0 off the contact, never NaN there):
 Cell data: ``element_id``; ``bottom_row`` (1 for the element row on the table); ``stress_pa`` (ne, 6)
   element volume average by its 2 x 2 x 2 Gauss quadrature; ``von_mises_pa`` of that average.
 Stress tensors: Voigt order (xx, yy, zz, xy, yz, zx) [Pa], tension > 0.
+
+Cost (issue 22, bench/README.md): every state's displacement comes from ONE recover call (one
+multi-right-hand-side back substitution) and every state's stresses from one strain operator
+(:func:`reference_solver.recover.states_stress`); result.vtu (:func:`result_mesh`) takes its step ends
+from the same displacements. Each VTU is meshio's binary XML, zlib-compressed block by block at
+:data:`ZLIB_LEVEL` (meshio has no option for the level), several files at once on
+:func:`writer_threads` threads (zlib releases the GIL while it compresses, most of a write).
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
+import os
+import threading
 import xml.etree.ElementTree as ET
+import zlib
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
+from reference_solver.fields import element_von_mises
 from reference_solver.recover import path_fields, states_stress
 
 from .mesh import SkirtMesh
@@ -36,6 +50,63 @@ from .numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
 
 VOIGT = "xx yy zz xy yz zx"
 SURFACES = ("table", "stop")
+# zlib level of the VTUs' blocks. Measured on the 100k-dof default skirt (160 x 70 x 2, one state, 9.6 MB of
+# arrays): level 6 (zlib's and meshio's default) 0.57 s and 4.79 MB, level 1 0.33 s and 4.84 MB
+# (1 % larger, 1.7x faster), no compression 0.10 s and 13.3 MB (base64).
+ZLIB_LEVEL = 1
+_PATCH = threading.Lock()
+
+
+class _LeveledZlib:
+    """The zlib module with ``compress`` at a fixed level (what meshio's VTU writer calls per block)."""
+
+    def __init__(self, level: int):
+        self.compress = functools.partial(zlib.compress, level=level)
+
+    def __getattr__(self, name):
+        return getattr(zlib, name)
+
+
+@contextlib.contextmanager
+def zlib_level(level: int = ZLIB_LEVEL):
+    """Inside: meshio's VTU writer compresses at ``level`` (its module's ``zlib`` name swapped for
+    :class:`_LeveledZlib`; left alone when meshio no longer calls it so). Not re-entrant across threads:
+    hold it around a whole batch of writes."""
+    import meshio.vtu._vtu as vtu
+    with _PATCH:
+        saved = getattr(vtu, "zlib", None)
+        if saved is not zlib:
+            yield
+            return
+        vtu.zlib = _LeveledZlib(level)
+        try:
+            yield
+        finally:
+            vtu.zlib = saved
+
+
+def writer_threads(n_files: int) -> int:
+    """Threads writing VTUs at once: the cores this process may use, at most 2 and at most ``n_files``."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    return max(1, min(2, cores, n_files))
+
+
+def write_vtus(jobs: list[tuple[Path, object]]) -> None:
+    """Write meshio meshes ``[(path, mesh), ...]`` as zlib-compressed binary VTUs, several at once."""
+    import meshio
+    with zlib_level():
+        write = lambda job: meshio.write(job[0], job[1], file_format="vtu", binary=True,  # noqa: E731
+                                         compression="zlib")
+        n = writer_threads(len(jobs))
+        if n == 1:
+            for job in jobs:
+                write(job)
+            return
+        with ThreadPoolExecutor(n) as pool:
+            list(pool.map(write, jobs))
 
 
 def pseudo_time(step: np.ndarray, load_factor: np.ndarray, lambda_max: float) -> np.ndarray:
@@ -108,16 +179,18 @@ def write_pvd(path: Path, files: list[str], times: np.ndarray, comment: str, lab
     return path
 
 
+def state_mesh(nodes: np.ndarray, hexes: np.ndarray, state: dict):
+    """meshio mesh of one state {'point', 'cell', ...} on the hexahedra."""
+    import meshio
+    return meshio.Mesh(nodes, [("hexahedron", hexes)], point_data=state["point"],
+                       cell_data={k: [v] for k, v in state["cell"].items()})
+
+
 def write_states(folder: Path, base: str, nodes: np.ndarray, hexes: np.ndarray, states: list[dict],
                  times: np.ndarray, comment: str) -> list[Path]:
     """Write ``base_NNN.vtu`` per state and ``base.pvd``; each state {'point', 'cell', 'label'}."""
-    import meshio
-    files = []
-    for k, st in enumerate(states):
-        name = f"{base}_{k:03d}.vtu"
-        meshio.write(folder / name, meshio.Mesh(nodes, [("hexahedron", hexes)], point_data=st["point"],
-                                                cell_data={k2: [v] for k2, v in st["cell"].items()}))
-        files.append(name)
+    files = [f"{base}_{k:03d}.vtu" for k in range(len(states))]
+    write_vtus([(folder / name, state_mesh(nodes, hexes, st)) for name, st in zip(files, states)])
     pvd = write_pvd(folder / f"{base}.pvd", files, times, comment, [st["label"] for st in states])
     return [pvd] + [folder / f for f in files]
 
@@ -134,10 +207,12 @@ def tangential_point_data(p, sol, row: int) -> tuple[np.ndarray, np.ndarray]:
     return fric[:, 0] * -np.sin(t) + fric[:, 1] * np.cos(t), fric
 
 
-def reference_states(model, mesh: SkirtMesh, system, sol) -> tuple[list[dict], np.ndarray]:
-    """Point and cell data of every row of ``sol`` and their pseudo-times (see the module doc)."""
+def reference_states(model, mesh: SkirtMesh, system, sol, U: np.ndarray | None = None,
+                     ) -> tuple[list[dict], np.ndarray]:
+    """Point and cell data of every row of ``sol`` and their pseudo-times (see the module doc); ``U``
+    (rows, n, 3) [m] the displacements of every row when already recovered (:func:`path_fields`)."""
     p = system.problem
-    U = path_fields(system, sol)                            # one solve for every row
+    U = path_fields(system, sol) if U is None else U        # one solve for every row
     base_point, base_cell = mesh_data(mesh)
     states = []
     for r, s in enumerate(states_stress(p, U)):
@@ -153,12 +228,52 @@ def reference_states(model, mesh: SkirtMesh, system, sol) -> tuple[list[dict], n
     return states, pseudo_time(sol.step, sol.load_factor, model.steps.lambda_max)
 
 
+def series_comment(model, sol) -> str:
+    return (f"deckbridge reference solver ({sol.method}), model {model.name}: one VTU per state; "
+            "timestep = 0 for step 1, (step - 1) + lambda / lambda_max for step 2; "
+            f"lambda_max = {model.steps.lambda_max!r}; stresses Voigt ({VOIGT}) [Pa], sigma_N < 0 compression")
+
+
 def write_reference_series(folder: str | Path, model, mesh: SkirtMesh, system, sol,
                            base: str = "result") -> list[Path]:
     """Write ``base.pvd`` and ``base_NNN.vtu`` of the reference load path into ``folder`` (a staging
     folder: the caller makes the writing atomic); returns the written paths, the pvd first."""
     states, times = reference_states(model, mesh, system, sol)
-    comment = (f"deckbridge reference solver ({sol.method}), model {model.name}: one VTU per state; "
-               "timestep = 0 for step 1, (step - 1) + lambda / lambda_max for step 2; "
-               f"lambda_max = {model.steps.lambda_max!r}; stresses Voigt ({VOIGT}) [Pa], sigma_N < 0 compression")
-    return write_states(Path(folder), base, mesh.nodes, mesh.hexes, states, times, comment)
+    return write_states(Path(folder), base, mesh.nodes, mesh.hexes, states, times, series_comment(model, sol))
+
+
+def result_mesh(p, sol, U: np.ndarray | None = None):
+    """meshio mesh of result.vtu: displacement, element-centre von Mises and contact stress and pressure
+    at the end of each step. ``U`` (rows, n, 3) [m]: every row's displacements (the step ends are taken
+    from it); without it, the Solution's own step-end ``fields``."""
+    import meshio
+    point, cell = {}, {}
+    ends = {s: int(np.flatnonzero(sol.step == s)[-1]) for s in (1, 2)}
+    fields = sol.fields if U is None else {s: U[r] for s, r in ends.items()}
+    for s, u in sorted(fields.items()):
+        last = ends[s]
+        point[f"displacement_step{s}_m"] = u
+        for surf in np.unique(p.contact_surface):
+            rows = p.contact_surface == surf
+            sig = np.zeros(p.n_nodes)
+            sig[p.contact_nodes[rows]] = sol.sigma_n[last, rows]
+            point[f"{surf}_sigma_n_step{s}_pa"] = sig
+            point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
+        cell[f"von_mises_step{s}_pa"] = [element_von_mises(p, u)]
+    return meshio.Mesh(p.nodes, [("hexahedron", p.hexes)], point_data=point, cell_data=cell)
+
+
+def write_reference_vtus(folder: str | Path, model, mesh: SkirtMesh, system, sol, base: str = "result",
+                         ) -> list[Path]:
+    """result.vtu and the series ``base.pvd`` + ``base_NNN.vtu`` from ONE recovery of every row's
+    displacements, all VTUs written in one batch (:func:`write_vtus`); returns the paths, result.vtu
+    first, then the pvd and the series."""
+    folder = Path(folder)
+    U = path_fields(system, sol)
+    states, times = reference_states(model, mesh, system, sol, U)
+    files = [f"{base}_{k:03d}.vtu" for k in range(len(states))]
+    jobs = [(folder / "result.vtu", result_mesh(system.problem, sol, U))]
+    jobs += [(folder / name, state_mesh(mesh.nodes, mesh.hexes, st)) for name, st in zip(files, states)]
+    write_vtus(jobs)
+    pvd = write_pvd(folder / f"{base}.pvd", files, times, series_comment(model, sol), [st["label"] for st in states])
+    return [folder / "result.vtu", pvd] + [folder / f for f in files]

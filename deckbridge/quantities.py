@@ -105,7 +105,7 @@ def sigma_n_wall(rows: pd.DataFrame) -> pd.Series:
                       "known": np.isfinite(a)}).groupby("t", sort=True)
     weighted = -g["f"].sum(min_count=1) / g["a"].sum(min_count=1)
     known = g["known"].all()              # every area of the azimuth finite (one vectorised pass)
-    out = weighted.where(known, g["s"].mean())
+    out = weighted.where(known, g["s"].mean()) + 0.0          # + 0.0: an open azimuth's -0 / A is 0.0
     out.index.name = "theta_deg"
     return out.astype(float)
 

@@ -23,13 +23,15 @@ import pandas as pd
 import reference_solver as rs
 
 from .errors import DeckbridgeError
+from . import summary_keys
 from .friction_table import FRICTION_CSV, friction_table
+from .jsonable import json_clean
 from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
 from .model import Model, ModelError
 from .outdir import staged
 from .numbering.skirt import mesh_node_ids
-from .paraview import write_reference_series
+from .paraview import result_mesh, write_reference_vtus  # noqa: F401  (result_mesh: solve's public name)
 from .results import conform, with_forces
 from .tangent_springs import follow_springs
 
@@ -245,7 +247,7 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
         "dofs": int(3 * p.n_nodes), "reduced_dofs": int(system.dofs),
         "condensed_dofs": int(system.info["retained"]), "contact_rows": int(p.n_contacts),
         "liftoff_load_factor": sol.liftoff_load_factor, "liftoff_theta_deg": lift_theta,
-        "liftoff_load_factor_beam_theory": model.beam_theory_liftoff(),
+        summary_keys.BEAM_THEORY_LIFTOFF_LOAD_FACTOR: model.beam_theory_liftoff(),
         "min_sigma_n_pa": float(df["sigma_n_pa"].min()), "max_sigma_n_pa": float(df["sigma_n_pa"].max()),
         "reaction_force_n": {s: v[0].tolist() for s, v in react.items()},
         "reaction_moment_nm": {s: v[1].tolist() for s, v in react.items()},
@@ -263,41 +265,20 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
     return out
 
 
-def result_mesh(p: rs.Problem, sol: rs.Solution):
-    """meshio mesh with displacement, von Mises and contact pressure at the end of each step."""
-    import meshio
-    point, cell = {}, {}
-    for s, u in sorted(sol.fields.items()):
-        last = int(np.flatnonzero(sol.step == s)[-1])
-        point[f"displacement_step{s}_m"] = u
-        for surf in np.unique(p.contact_surface):
-            rows = p.contact_surface == surf
-            sig = np.zeros(p.n_nodes)
-            sig[p.contact_nodes[rows]] = sol.sigma_n[last, rows]
-            point[f"{surf}_sigma_n_step{s}_pa"] = sig
-            point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
-        cell[f"von_mises_step{s}_pa"] = [rs.element_von_mises(p, u)]
-    return meshio.Mesh(p.nodes, [("hexahedron", p.hexes)], point_data=point, cell_data=cell)
-
-
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
                   df: pd.DataFrame, summary: dict, mesh: SkirtMesh | None = None) -> list[Path]:
     """Write contact.csv, summary.json, with friction friction.csv (:mod:`deckbridge.friction_table`), and (outputs.vtu) result.vtu plus the ParaView series result.pvd,
     result_NNN.vtu (one per increment, :mod:`deckbridge.paraview`) into ``outdir`` atomically."""
-    import meshio
     names = ["contact.csv", "summary.json"]
     with staged(outdir) as stage:
         df.to_csv(stage / "contact.csv", index=False)
-        (stage / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        (stage / "summary.json").write_text(json.dumps(json_clean(summary), indent=2) + "\n")
         fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)       # only with contact.tangential: friction
         if fric is not None:
             fric.to_csv(stage / FRICTION_CSV, index=False, float_format="%.17g")
             names.append(FRICTION_CSV)
-        if model.outputs.vtu and sol.fields:
-            meshio.write(stage / "result.vtu", result_mesh(system.problem, sol))
-            names.append("result.vtu")
-            series = write_reference_series(stage, model, mesh or build_mesh(model), system, sol)
-            names += [f.name for f in series]
+        if model.outputs.vtu:       # result.vtu + the series, from one recovery of every row (deckbridge.paraview)
+            names += [f.name for f in write_reference_vtus(stage, model, mesh or build_mesh(model), system, sol)]
     return [Path(outdir) / n for n in names]
 
 
@@ -308,6 +289,10 @@ def run_solve(model: Model, method: str, outdir: str | Path, k_factor: float = 1
     mesh, system, t0 = condense_timed(model, k_factor, alpha)
     system = follow_springs(system, method, penalty_factor(model, k_factor, alpha))
     df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
-                                    on_increment, recover=model.outputs.vtu)
+                                    on_increment, recover=False)      # write_outputs recovers every row once
     summary["wall_time_s"] = time.perf_counter() - t0
     return write_outputs(outdir, model, system, sol, df, summary, mesh), summary
+
+
+from .api_callable import make_callable  # noqa: E402  (deckbridge.solve(model, ...) is the API call)
+make_callable(__name__)

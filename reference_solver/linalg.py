@@ -270,12 +270,15 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
                             shape=(nr, nr)).toarray()
         del L
         how = "L()"
-    C = Lrr @ Lrr.T                                                  # S + D0 in the order tail
+    C = gram_lower(Lrr)                                              # S + D0 in the order tail
     back = np.empty(nr, np.int64)
     back[tail - (n - nr)] = np.arange(nr)
-    SD = C if np.array_equal(back, np.arange(nr)) else C[np.ix_(back, back)]   # S + D0, order of r
-    S = SD.copy()
-    S[np.diag_indices(nr)] -= d0
+    S = C if np.array_equal(back, np.arange(nr)) else C[np.ix_(back, back)]    # S + D0, order of r
+    del C
+    S[np.diag_indices(nr)] -= d0                                     # S, exactly symmetric; S + D0 = S + d0 I
+
+    def SD_times(x: np.ndarray) -> np.ndarray:                      # (S + D0) x without a second nr x nr array
+        return S @ x + d0.reshape((nr,) + (1,) * (np.ndim(x) - 1)) * x
 
     def solve_aug(b_perm: np.ndarray) -> np.ndarray:
         return np.asarray(f(b_perm))
@@ -291,18 +294,19 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     if half:
         Z0 = np.asarray(f.solve_L(B, use_LDLt_decomposition=False)).reshape(n, -1)
         Y = sla.solve_triangular(Lrr, Z0[ni:], lower=True, trans="T", check_finite=False)
+        del Lrr                                    # not held through the path: re-read from the factor when recovering
     else:
         Y = solve_aug(B)[ni:].reshape(nr, -1)                        # y = -(S+D0)^-1 K_ri K_ii^-1 f_i
-    fhat = F[r] + SD @ Y
+    fhat = F[r] + SD_times(Y)
     t3 = time.perf_counter()
 
     def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
         shape = (n,) + np.shape(u_r)[1:]
-        v = SD @ (u_r - Y @ coeffs)
+        v = SD_times(u_r - Y @ coeffs)
         u = np.empty(shape)
         if half:
             z = Z0 @ coeffs
-            z[ni:] += sla.solve_triangular(Lrr, v, lower=True, check_finite=False)
+            z[ni:] += sla.solve_triangular(trailing_block(f, n, nr), v, lower=True, check_finite=False)
             u[perm] = np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
             return u
         b = np.empty(shape)
@@ -311,8 +315,24 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
         u[perm] = solve_aug(b).reshape(shape)
         return u
 
-    return Schur(0.5 * (S + S.T), fhat, recover, "cholmod-trailing",
+    return Schur(S, fhat, recover, "cholmod-trailing",
                  {**timings, "schur_s": t3 - t2, "trailing_read": how})
+
+
+def gram_lower(L: np.ndarray, block: int = 1024) -> np.ndarray:
+    """L L^T (m, m) for a square L, exactly symmetric: BLAS dsyrk writes one triangle (half the flops of
+    L @ L.T and no transposed copy of L), the other is mirrored block by block (no index arrays)."""
+    m = L.shape[0]
+    if m == 0:
+        return np.zeros((0, 0))
+    C = sla.blas.dsyrk(1.0, np.asarray(L, float).T, trans=1, lower=0)     # upper triangle of L L^T, Fortran order
+    for b in range(0, m, block):
+        e = min(b + block, m)
+        C[b:e, :b] = C[:b, b:e].T                                     # rows b:e left of the diagonal block
+        blk = C[b:e, b:e]
+        lower = np.tril_indices(e - b, -1)
+        blk[lower] = blk.T[lower]
+    return C
 
 
 def cholesky_dense(A: np.ndarray, overwrite: bool = False):

@@ -35,7 +35,7 @@ def test_import_writes_a_checked_model_that_every_command_takes(tmp_path):
     assert r.exit_code == 0, r.output
     s = json.loads((tmp_path / "sol" / "summary.json").read_text())
     # measured geometry (mm -> m): beam theory N R / (2 M) with R = 1 m
-    assert s["liftoff_load_factor_beam_theory"] == pytest.approx(2.7e6 * 1.0 / (2 * 2.0e6), rel=1e-9)
+    assert s["beam_theory_liftoff_load_factor"] == pytest.approx(2.7e6 * 1.0 / (2 * 2.0e6), rel=1e-9)
     assert s["liftoff_load_factor"] == pytest.approx(0.675, rel=0.05)   # coarse 16 x 2 x 1 ring
     r = CliRunner().invoke(main, ["decks", str(out), "-o", str(tmp_path / "decks")])
     assert r.exit_code == 0, r.output

@@ -86,7 +86,7 @@ def test_memory_check_counts_the_imported_nodes(tmp_path, monkeypatch):
     m = load(None, [f"mesh.file={_inp(tmp_path / 'ring.inp')}", SETS])
     monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
     need = limits.check_memory(m)
-    assert need == pytest.approx(limits.estimate_bytes(3 * 4 * N))   # 4 N nodes, 3 dof each
+    assert need == pytest.approx(limits.quick_estimate(m, 3 * 4 * N))   # 4 N nodes, 3 dof each
     monkeypatch.setattr(limits, "available_bytes", lambda: 1e6)
     with pytest.raises(InputError, match=rf"mesh .*ring.inp: {3 * 4 * N} dofs need about"):
         limits.check_memory(m)

@@ -18,18 +18,25 @@ from ._common import main
 @click.option("--units", type=click.Choice(["m", "mm"]), default="m", help="Length unit of the mesh file.")
 @click.option("--name", default=None, help="Model name (default: the mesh file's stem).")
 @click.option("--set", "overrides", multiple=True, metavar="KEY=VALUE", help="Override a model value (repeatable).")
+@click.option("--like", "like", default=None, type=click.Path(dir_okay=False), metavar="MODEL.yaml",
+              help="Take material, loads, contact, steps and analysis from this model (all but its mesh and "
+                   "geometry) instead of the default JAR's.")
 @click.option("--force", is_flag=True, help="Overwrite an existing model file.")
-def import_cmd(mesh, out, base, top, stop, units, name, overrides, force):
+def import_cmd(mesh, out, base, top, stop, units, name, overrides, like, force):
     """Read MESH (.inp, .msh, .bdf), check it, and write a model that uses it."""
     from ..importers.describe import model_for_mesh
+    from ..model import load
     p = Path(out)
     if p.exists() and not force:
         raise DeckbridgeError(f"{str(p)!r}: exists (use --force to overwrite)")
-    model, text = model_for_mesh(mesh, p, base, top, stop, units, name=name, overrides=list(overrides))
+    like_model = None if like is None else load(like)
+    model, text = model_for_mesh(mesh, p, base, top, stop, units, name=name, overrides=list(overrides),
+                                 like=like_model)
     prepare(p.parent if str(p.parent) else ".")
     write_text(p, text)
     g = model.geometry
-    click.echo(f"wrote {p}: R = {g.radius:.6g} m, t = {g.thickness:.6g} m, H = {g.height:.6g} m")
+    click.echo(f"wrote {p}: R = {g.radius:.6g} m, t = {g.thickness:.6g} m, H = {g.height:.6g} m"
+               + ("" if like is None else f"; material, loads and contact of {like}"))
     from ..dialects import DIALECTS
     from ..mesh import build_mesh
     mesh = build_mesh(model)

@@ -12,8 +12,6 @@ from ._common import main, model_options
 @click.option("--with-ccx", is_flag=True, help="Also run CalculiX on its penalty and mortar decks.")
 def run_cmd(model, outdir, with_ccx):
     """Write the decks, solve with penalty and Lagrange, compare and write the report."""
-    from ..job import run_job                # decks, solver, report: imported when the job runs
-    from ..solve import penalty_factor
+    from ..api import run                    # decks, solver, report: imported when the job runs
 
-    penalty_factor(model)                    # the model's own penalty in range, before any work
-    run_job(model, outdir, with_ccx=with_ccx, echo=click.echo)
+    run(model, outdir, with_ccx=with_ccx, echo=click.echo)

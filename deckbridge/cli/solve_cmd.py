@@ -22,7 +22,9 @@ from ._common import main, model_options
                    "(ParaView series, one VTU per increment); written whole or not at all.")
 def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
     """Solve MODEL with the reference solver and write the contact table, a summary and a VTU file."""
-    from ..solve import penalty_factor, run_solve   # the solver: imported by the commands that solve
+    from .. import summary_keys as K
+    from ..api import solve                   # the solver: imported by the commands that solve
+    from ..solve import penalty_factor
 
     if alpha is not None and k_factor is not None:
         raise DeckbridgeError(f"--alpha = {alpha!r} and --k-factor = {k_factor!r}: give one or the other")
@@ -37,13 +39,15 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
         def progress(step, inc, lam):
             bar.set_postfix_str(f"step {step} lambda {lam:.3g}")
             bar.update(1)
-        paths, summary = run_solve(model, method, outdir, k_factor, alpha, algorithm, on_increment=progress)
+        result = solve(model, method, k_factor=k_factor, alpha=alpha, algorithm=algorithm, on_increment=progress)
+    paths, summary = result.write(outdir), result.summary
     series = [p for p in paths if p.suffix == ".vtu" and p.name != "result.vtu"]   # listed in result.pvd
     for p in paths:
         if p not in series:
             click.echo(f"wrote {p}" + (f" (+ {len(series)} VTUs, one per increment)" if p.suffix == ".pvd" else ""))
-    lf = summary["liftoff_load_factor"]
+    lf, lfs = summary[K.LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_LOAD_FACTOR]
     click.echo(f"{method}: liftoff " + ("none" if lf is None else
-               f"at load factor {lf:.4f}, theta {summary['liftoff_theta_deg']:.1f} deg")
-               + f"; sigma_n in [{summary['min_sigma_n_pa'] / 1e6:.4g}, {summary['max_sigma_n_pa'] / 1e6:.4g}] MPa;"
-               f" {summary['dofs']} dofs in {summary['wall_time_s']:.2f} s")
+               f"at load factor {lf:.4f}, theta {summary[K.LIFTOFF_THETA_DEG]:.1f} deg")
+               + ("" if lfs is None else f" (whole section {lfs:.4f})")
+               + f"; sigma_n in [{summary[K.MIN_SIGMA_N_PA] / 1e6:.4g}, {summary[K.MAX_SIGMA_N_PA] / 1e6:.4g}] MPa;"
+               f" {summary[K.DOFS]} dofs in {summary[K.WALL_TIME_S]:.2f} s")

@@ -161,14 +161,14 @@ def _f(v) -> str:
               help="Also write DIR/summary.json (per method lambda_c and theta_deg).")
 def liftoff_cmd(model, method, tol, k_factor, outdir):
     """Critical load factor lambda_c (on T and M in step 2) at which liftoff begins, and where."""
-    from ..studies.liftoff import critical_load, format_table
+    from ..api import liftoff
+    from ..studies.liftoff import format_table
     from ..studies.metrics import rnd
 
     methods = ("penalty", "lagrange") if method == "both" else (method,)
     if k_factor is not None and "penalty" not in methods:
         raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method penalty or both")
-    limits.check_liftoff_tol(tol, model.steps.lambda_max)
-    res = critical_load(model, methods, tol=tol, k_factor=1.0 if k_factor is None else k_factor)
+    res = liftoff(model, methods, tol=tol, k_factor=1.0 if k_factor is None else k_factor).summary
     click.echo(format_table(res))
     if outdir is not None:
         with staged(outdir) as stage:

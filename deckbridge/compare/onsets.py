@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import summary_keys as K
 from .metrics import _nodes_lifted, liftoff_load_factor
 from .series import Series
 
@@ -59,8 +60,8 @@ def onsets(series: Series, summary: dict | None = None) -> dict:
     source's solver summary (reference folders), None for an external solver."""
     out = {}
     for name, event, exact_key, theta_key in (
-            ("first_node", _first_node, "liftoff_load_factor", "liftoff_theta_deg"),
-            ("section", _section, "section_liftoff_load_factor", "section_liftoff_theta_deg")):
+            ("first_node", _first_node, K.LIFTOFF_LOAD_FACTOR, K.LIFTOFF_THETA_DEG),
+            ("section", _section, K.SECTION_LIFTOFF_LOAD_FACTOR, K.SECTION_LIFTOFF_THETA_DEG)):
         bracket, where = _bracket(series, event)
         exact = _exact(summary, series.method, exact_key)
         o = {"exact": exact, "bracket": bracket, "theta_deg": where}

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from .. import summary_keys as K
 from ..azimuth import snap_deg
 from ..quantities import DEFINITIONS, sigma_n_wall, table_rows
 
@@ -66,11 +67,11 @@ def variant_claims(variant, cases, tables: dict, walls: dict, records: dict, lam
     lag = next(c for c in cases if c.method == "lagrange")
     pens = sorted((c for c in cases if c.method == "penalty" and not records[c.case_id].get("error")),
                   key=lambda c: c.k_factor)
-    follows = bool((records[lag.case_id].get("summary") or {}).get("k_tangent_follows_k",
+    follows = bool((records[lag.case_id].get("summary") or {}).get(K.K_TANGENT_FOLLOWS_K,
                                                                   variant.model.contact.penalty.k_tangent_follows))
     springs = variant.model.contact.tangential == "springs"
     out = {"variant": variant.label, "mesh": variant.mesh_label, "grid": dict(variant.grid), "grid_label": grid,
-           "load_factor_requested": lam, "k_tangent_follows_k": follows,
+           "load_factor_requested": lam, K.K_TANGENT_FOLLOWS_K: follows,
            "lagrange_depends_on_alpha": False,
            "lagrange_depends_on_alpha_note": (
                ("k_tangent follows alpha: the penalty cases scale the circumferential springs with k "
@@ -99,9 +100,9 @@ def variant_claims(variant, cases, tables: dict, walls: dict, records: dict, lam
     out["load_factor"] = lf0
     rec = lambda c: records[c.case_id]["summary"]  # noqa: E731
     out["onsets"] = {"lagrange": {"first_node": rec(lag)["liftoff_load_factor"],
-                                  "whole_section": rec(lag).get("section_onset_load_factor")},
+                                  "whole_section": rec(lag).get(K.SECTION_LIFTOFF_LOAD_FACTOR)},
                      "penalty": [{"k_factor": c.k_factor, "first_node": rec(c)["liftoff_load_factor"],
-                                  "whole_section": rec(c).get("section_onset_load_factor")} for c in pens]}
+                                  "whole_section": rec(c).get(K.SECTION_LIFTOFF_LOAD_FACTOR)} for c in pens]}
     c1, c2 = {}, {}
     for q in QUANTITIES:
         if q not in lp or any(q not in prof[c.case_id][1] for c in pens):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+from .. import summary_keys as K
 from ..errors import DeckbridgeError
 from ..model import Model
 from ..solve import condense_model, contact_row_theta, penalty_factor, solve_path
@@ -65,8 +66,8 @@ def critical_load(model: Model, methods: tuple[str, ...] | list[str] = METHODS, 
         res = {m: _one(model, mesh, system, m, tol, kf) for m in methods}
     follows = model.contact.penalty.k_tangent_follows and model.contact.tangential == "springs"
     out = {"model": model.name, "load_introduction": model.load_introduction, "tol": tol,
-           "k_tangent_follows_alpha": follows,
-           "beam_theory_lambda_c": model.beam_theory_liftoff(),
+           K.K_TANGENT_FOLLOWS_K: follows,
+           K.BEAM_THEORY_LIFTOFF_LOAD_FACTOR: model.beam_theory_liftoff(),
            "base_moment_nm_at_lambda_1": model.base_moment, "methods": list(methods), **res}
     if len(methods) == 2:
         a, b = (res[m]["lambda_c"] for m in METHODS)
@@ -89,11 +90,11 @@ def format_table(result: dict) -> str:
     if d is not None:
         rel = "" if d["relative_to_lagrange"] is None else f" ({d['relative_to_lagrange'] * 100:+.2f} % of Lagrange)"
         lines.append(f"difference penalty - lagrange: {d['penalty_minus_lagrange']:+.5f}{rel}")
-    if result.get("k_tangent_follows_alpha"):
+    if result.get(K.K_TANGENT_FOLLOWS_K):
         lines.append("note: contact.penalty.k_tangent follows alpha: the circumferential springs are k_c(alpha) "
                      "(x the k-factor for penalty), so both onsets depend on alpha, Lagrange's too; "
                      "set k_tangent to a number [N/m] to compare methods at a fixed restraint")
-    bt = result["beam_theory_lambda_c"]
+    bt = result[K.BEAM_THEORY_LIFTOFF_LOAD_FACTOR]
     lines.append(f"beam theory (thin ring, rigid section) N R / (2 (M + T H)): "
                  + ("none (M + T H = 0)" if bt is None else f"{bt:.5f}")
                  + f"; tolerance {result['tol']:g} in lambda")

@@ -16,6 +16,7 @@ import time
 import numpy as np
 import pandas as pd
 
+from .. import summary_keys as K
 from ..errors import DeckbridgeError
 from ..model import Model
 
@@ -110,14 +111,14 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
         with one_blas_thread():
             df, summary, sol = solve_system(model, mesh, system, method, kf, recover=False)
             lam_s, th_s = reference_section_onset(system, mesh, sol)
-            summary["section_onset_load_factor"], summary["section_onset_theta_deg"] = lam_s, th_s
+            summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = lam_s, th_s
             if system.schur is not None:
                 wall = reference_wall(system, mesh, sol)
     except DeckbridgeError:
         raise
     except Exception as exc:        # anything else crosses the process boundary as one line
         raise DeckbridgeError(f"model {model.name!r}, {method}: {type(exc).__name__}: {exc}") from None
-    summary["k_tangent_follows_k"] = bool(system.problem.kt_follows_k)
+    summary[K.K_TANGENT_FOLLOWS_K] = bool(system.problem.kt_follows_k)
     summary["k_tangent_rigid"] = bool(system.info.get("spring_limit", False))
     if method == "penalty":
         summary["open_stiffness"] = open_stiffness

@@ -1,0 +1,192 @@
+"""The public Python API of deckbridge (``import deckbridge``): the CLI's commands as functions returning
+plain-data results whose tables are pandas DataFrames.
+
+    model = deckbridge.load("skirt.yaml").with_overrides({"mesh.n_theta": 48})
+    lag = deckbridge.solve(model, method="lagrange")
+    lag.sigma_n_wall(1.0)            # sigma_N(theta) through the wall at lambda = 1 [Pa]
+    lag.plot()
+
+Units SI; sigma_n < 0 compression, > 0 tension; gap > 0 open; theta [deg] CCW from +x in [0, 360); lambda [-]
+multiplies (T, M) in step 2 (step 1: N alone). Result objects: :class:`~deckbridge.api_results.Solution`
+(``solve``), :class:`RunResult` (``run``), :class:`~deckbridge.api_studies.Comparison` (``compare``),
+:class:`~deckbridge.api_studies.SweepResult` (``sweep``), :class:`~deckbridge.api_studies.LiftoffResult`
+(``liftoff``). Summary keys are those of :mod:`deckbridge.summary_keys`. Errors: :class:`deckbridge.DeckbridgeError`
+(one line naming the model key or argument and its value).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterable
+
+from . import summary_keys as K
+from .api_results import Solution
+from .api_studies import Comparison, LiftoffResult, SweepResult
+from .errors import DeckbridgeError
+from .model import Model, load
+
+METHODS = ("penalty", "lagrange")
+
+
+def default_model() -> Model:
+    """The embedded default JAR model (Ariane booster rear skirt on its launch table), the model that
+    ``deckbridge run`` runs without argument. Change it with :meth:`Model.with_overrides`."""
+    return load(None)
+
+
+def _check_method(method: str) -> None:
+    if method not in METHODS:
+        raise DeckbridgeError(f"method = {method!r}: must be one of {', '.join(METHODS)}")
+
+
+def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alpha: float | None = None,
+          algorithm: str | None = None, on_increment: Callable[[int, int, float], None] | None = None,
+          ) -> Solution:
+    """Solve ``model`` with the reference solver and one contact method; what ``deckbridge solve`` computes.
+
+    ``method``: 'penalty' (gap springs k_c = alpha A^2 K / V per node, CGAP/PGAP semantics) or 'lagrange'
+    (exact, no penetration). Penalty only: ``k_factor`` multiplies the model's normal stiffness, ``alpha``
+    replaces contact.penalty.alpha. Lagrange only: ``algorithm`` 'active-set' (default) or 'gauss-seidel'.
+    ``on_increment(step, increment, lambda)`` reports progress. The load path: step 1 N, step 2 N +
+    lambda (T, M) up to steps.lambda_max, liftoff onsets bisected. Fields for :meth:`Solution.to_paraview`
+    are recovered when ``model.outputs.vtu`` is true.
+    """
+    from .solve import condense_timed, penalty_factor, solve_system
+    from .tangent_springs import follow_springs
+    from .wall_stress import reference_section_onset
+
+    _check_method(method)
+    if method == "lagrange" and (alpha is not None or k_factor != 1.0):
+        raise DeckbridgeError("alpha/k_factor: only for method penalty (Lagrange has no penalty stiffness)")
+    if method == "penalty" and algorithm is not None:
+        raise DeckbridgeError(f"algorithm = {algorithm!r}: only for method lagrange")
+    mesh, system, t0 = condense_timed(model, k_factor, alpha)
+    system = follow_springs(system, method, penalty_factor(model, k_factor, alpha))
+    df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm, on_increment,
+                                    recover=model.outputs.vtu)
+    summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = \
+        reference_section_onset(system, mesh, sol)
+    summary[K.WALL_TIME_S] = time.perf_counter() - t0
+    fric = None
+    if model.contact.tangential == "friction":
+        from .friction_table import friction_table
+        fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)
+    return Solution(model, method, df, summary, friction=fric, _solved=(mesh, system, sol))
+
+
+@dataclass
+class RunResult:
+    """What ``deckbridge run`` wrote into ``out``: the two reference solutions, the comparison and the report.
+
+    ``penalty``, ``lagrange``: :class:`~deckbridge.api_results.Solution` (their files in
+    ``out/reference_<method>/``); ``comparison``: :class:`~deckbridge.api_studies.Comparison` of every source
+    (with ``with_ccx`` the CalculiX jobs too); ``report``: the path of ``out/report.html``; ``out``: the folder.
+    """
+    penalty: Solution
+    lagrange: Solution
+    comparison: Comparison
+    report: Path
+    out: Path
+
+    def solutions(self) -> dict[str, Solution]:
+        """{'penalty': ..., 'lagrange': ...}."""
+        return {"penalty": self.penalty, "lagrange": self.lagrange}
+
+
+def run(model: Model | None = None, out: str | Path = "jar-report", *, with_ccx: bool = False,
+        echo: Callable[[str], None] | None = None) -> RunResult:
+    """The main job (``deckbridge run``): decks of every dialect, the reference solver with penalty and
+    Lagrange, with ``with_ccx`` CalculiX on its decks, the comparison and ``out/report.html``. All or
+    nothing: a failed run leaves ``out`` as it was. ``model`` None: the default model. ``echo``: where the
+    progress lines go (default: nowhere)."""
+    from .job import run_job
+    from .solve import penalty_factor
+
+    model = default_model() if model is None else model
+    penalty_factor(model)                       # the model's own penalty in range, before any work
+    res = run_job(model, out, with_ccx=with_ccx, echo=echo or (lambda line: None))
+    comp = res["comparison"]
+    sols = {}
+    for label, rec in comp.sources.items():
+        sm = rec.summary or {}
+        if sm.get(K.SOURCE) == "reference" and sm.get(K.METHOD) in METHODS:
+            sols[sm[K.METHOD]] = Solution(model, sm[K.METHOD], rec.table, sm, wall=rec.wall, friction=rec.friction,
+                                          _folder=Path(rec.origin))
+    return RunResult(sols["penalty"], sols["lagrange"], Comparison(comp, model), Path(res["report"]), Path(out))
+
+
+def compare(*sources, model: Model | None = None, load_factors: Iterable[float] | None = None,
+            surface: str = "table", out: str | Path | None = None) -> Comparison:
+    """Compare the contact stresses of ``sources`` (what ``deckbridge compare`` does): each a
+    :class:`~deckbridge.api_results.Solution`, a result folder or file of any supported format (detected),
+    or a tidy DataFrame. ``model``: the model the results belong to (maps node ids of solver files to azimuth).
+    ``load_factors``: compare there instead of the defaults (end of step 1, first liftoff, end of step 2).
+    ``out``: also write the report there (report.html, sigma_n.png, discrepancy.csv, summary.json)."""
+    from .compare import compare_tables
+    from .results import SourceResult
+
+    if not sources:
+        raise DeckbridgeError("compare: give at least one source")
+    records, origins = [], []
+    for i, src in enumerate(sources):
+        if isinstance(src, Solution):
+            src.wall_stress()                               # the base-wall quantities are compared too
+            origin = str(src._folder) if src._folder is not None else src.method
+            origin = origin if origin not in origins else f"{origin}-{i + 1}"    # two solutions of one method
+            records.append(SourceResult(src.table, origin, summary=src.summary, wall=src.wall, friction=src.friction))
+            model = model or src.model
+        elif isinstance(src, (str, Path)):
+            records.append(_read(src, model))
+            origin = str(src)
+        else:
+            records.append(src)
+            origin = f"table {i + 1}"
+        origins.append(origin)
+    lfs = None if load_factors is None else [float(x) for x in load_factors]
+    comp = Comparison(compare_tables(records, load_factors=lfs, origins=origins, surface=surface), model)
+    if out is not None:
+        comp.write_report(out)
+    return comp
+
+
+def _read(src, model):
+    from .readers import detect, read
+    from .readers.reference import read_source
+    from .wall_stress import with_ccx_wall
+    name = detect(src)
+    if name == "reference":
+        return read_source(src, model=model)
+    tab = read(src, fmt=name, model=model)
+    return with_ccx_wall(tab, src, model) if name == "calculix" else tab
+
+
+def sweep(model: Model, k_factors: Iterable[float], out: str | Path, *, meshes: list[dict] | None = None,
+          grid: list[dict] | None = None, tol: float = 0.02, load_factors: Iterable[float] | None = None,
+          open_stiffness: str = "scaled", report: bool = True) -> SweepResult:
+    """Penalty-factor sweep against Lagrange (``deckbridge sweep``), in this process, resumable in ``out``.
+
+    ``k_factors``: factors on the model's normal contact stiffness k_c; ``meshes``: mesh variants, e.g.
+    ``[{"n_theta": 48}, {"n_theta": 96}]``; ``grid``: variants of other model keys (dotted keys);
+    ``tol``: a k-factor reproduces Lagrange when max |d sigma_n| <= tol x |Lagrange peak compression| at every
+    compared load factor; ``open_stiffness``: 'scaled' (k_open = open_ratio x k) or 'fixed'."""
+    from .studies.sweep import run_sweep
+    res = run_sweep(model, [float(k) for k in k_factors], out, meshes=meshes, tol=tol,
+                    load_factors=None if load_factors is None else [float(x) for x in load_factors],
+                    open_stiffness=open_stiffness, progress=False, report=report, grid=grid)
+    return SweepResult(res["summary"], res["variants"], res["quantities"], Path(out))
+
+
+def liftoff(model: Model, methods: Iterable[str] = METHODS, *, tol: float = 1e-3, k_factor: float = 1.0,
+            ) -> LiftoffResult:
+    """Critical load factor lambda_c of liftoff per method (``deckbridge liftoff``): the smallest lambda on
+    (T, M) in step 2 at which a table node opens, bisected to ``tol`` (absolute in lambda), and its azimuth;
+    the search goes beyond steps.lambda_max (up to 100 x) when nothing lifts there."""
+    from .limits import check_liftoff_tol
+    from .studies.liftoff import critical_load
+    methods = tuple(methods)
+    for m in methods:
+        _check_method(m)
+    check_liftoff_tol(tol, model.steps.lambda_max)
+    return LiftoffResult(critical_load(model, methods, tol=tol, k_factor=k_factor))

@@ -1,0 +1,83 @@
+"""The memory guard (deckbridge.limits): the estimate from the mesh's symbolic factorisation grows with the
+factor's fill and every other size, the quick arithmetic bound lets a small model through without building
+anything, and a model above the memory available is refused with one line naming the mesh keys."""
+
+import numpy as np
+import pytest
+
+from deckbridge import limits
+from deckbridge.errors import InputError
+from deckbridge.model import load
+
+SMALL = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1"]
+
+
+def test_estimate_is_monotone_in_fill_and_sizes():
+    base = dict(n_nodes=30_000, n_hex=20_000, n_retained=1_000, factor_entries=30_000_000, states=12)
+    ref = limits.solve_estimate(**base).bytes
+    for key in base:
+        for vtu in (True, False):
+            lo = limits.solve_estimate(**{**base, "vtu": vtu}).bytes
+            hi = limits.solve_estimate(**{**base, key: 4 * base[key], "vtu": vtu}).bytes
+            assert hi >= lo, key
+    fills = [limits.solve_estimate(**{**base, "factor_entries": f}).bytes for f in np.geomspace(1e6, 1e9, 7)]
+    assert np.all(np.diff(fills) > 0)
+    # 8 bytes per factor entry at least: doubling the fill adds at least its bytes
+    assert limits.solve_estimate(**{**base, "factor_entries": 2 * base["factor_entries"]}).bytes - ref >= 8 * 30e6
+    assert limits.solve_estimate(**base, vtu=False).bytes <= ref        # the VTU stage only adds
+
+
+def test_symbolic_estimate_counts_the_mesh_and_its_factor():
+    m = load(None, SMALL)
+    e = limits.symbolic_estimate(m)
+    assert e.dofs == limits.dofs(16, 4, 1) == limits.model_dofs(m)
+    assert 0 < e.retained <= limits.retained_bound(m)
+    # the factor holds at least the lower triangle of K's pattern (81 entries per dof row, halved) and at
+    # most the dense triangle
+    assert 0.5 * 27 * e.dofs <= e.factor_entries <= e.dofs * (e.dofs + 1) / 2
+    assert e.bytes == pytest.approx(limits.ESTIMATE_MARGIN * max(e.parts.values()))
+    assert set(e.parts) == {"split", "load_path", "vtu"}
+    assert limits.symbolic_estimate(load(None, SMALL + ["outputs.vtu=false"])).parts.keys() == {"split", "load_path"}
+    assert limits.quick_estimate(m) >= e.bytes                       # the quick bound is above it
+
+
+def test_quick_bound_passes_without_building_the_mesh(monkeypatch):
+    monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
+    m = load(None, SMALL)
+    monkeypatch.setattr(limits, "available_bytes", lambda: 1e12)
+    monkeypatch.setattr(limits, "symbolic_estimate", lambda *a, **k: pytest.fail("symbolic analysis run"))
+    assert limits.check_memory(m) == pytest.approx(limits.quick_estimate(m))
+
+
+def test_a_model_over_the_bound_that_fits_is_not_refused(monkeypatch):
+    monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
+    m = load(None, SMALL)
+    sym, quick = limits.symbolic_estimate(m).bytes, limits.quick_estimate(m)
+    assert sym < quick
+    monkeypatch.setattr(limits, "available_bytes", lambda: 0.5 * (sym + quick))
+    assert limits.check_memory(m) == pytest.approx(sym)              # decided by the symbolic estimate
+
+
+def test_refused_above_the_memory_with_one_line_naming_the_keys(monkeypatch):
+    monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
+    m = load(None, SMALL)
+    sym = limits.symbolic_estimate(m).bytes
+    monkeypatch.setattr(limits, "available_bytes", lambda: 0.9 * sym)
+    with pytest.raises(InputError) as err:
+        limits.check_memory(m)
+    text = str(err.value)
+    assert "\n" not in text
+    assert text.startswith("mesh.n_theta x mesh.n_z x mesh.n_r = 16 x 4 x 1: ")
+    assert f"{limits.dofs(16, 4, 1):,} dofs need about {sym / 1e9:.3g} GB (from its symbolic factorisation)" in text
+    assert "--allow-large" in text
+    assert limits.check_memory(m, allow_large=True) > 0              # --allow-large passes it
+
+
+def test_gram_lower_is_exactly_symmetric_and_equals_l_lt():
+    from reference_solver.linalg import gram_lower
+    rng = np.random.default_rng(22)
+    for m, block in ((0, 4), (1, 4), (9, 4), (64, 64), (130, 32)):
+        L = np.tril(rng.normal(size=(m, m)))
+        C = gram_lower(L, block=block)
+        assert np.array_equal(C, C.T)
+        np.testing.assert_allclose(C, L @ L.T, rtol=1e-13, atol=1e-12 * max(1, m))
