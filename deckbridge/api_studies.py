@@ -94,8 +94,8 @@ class Comparison:
 
     def write_report(self, out: str | Path) -> list[Path]:
         """Write report.html, sigma_n.png, discrepancy.csv and summary.json into ``out``; the paths."""
-        from .report import write_report
-        return write_report(self.result, out, model=self.model)
+        from .studies.verdict import write_report_with_verdict
+        return write_report_with_verdict(self.result, out, model=self.model)
 
 
 @dataclass

@@ -37,7 +37,7 @@ from .outdir import prepare, replacing
 from .render import render_all
 from .readers import read
 from .readers.reference import solution_globals
-from .report import write_report
+from .studies.verdict import write_report_with_verdict
 from .report.caveats import reference_caveats
 from .results import SourceResult
 from .solve import condense_model, result_mesh, solve_system, write_outputs
@@ -139,7 +139,7 @@ def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float, me
                 echo(f"  warning: lambda = {pt.load_factor:.4g}: table node(s) {ex['free_penetration_nodes']} "
                      f"penetrate up to {ex['free_penetration_m'] * 1e3:.3g} mm with no contact force "
                      "(the solver's contact search missed them?)")
-    paths = write_report(result, out, model=model)
+    paths = write_report_with_verdict(result, out, model=model, extra={"condensed": (mesh, system)})  # reused
     report = out / "report.html"
     echo(f"report: {report} ({time.perf_counter() - t0:.1f} s in all)")
     return {"report": report, "paths": paths, "reference": summaries, "comparison": result}

@@ -43,7 +43,7 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$hash_now" ]; then
   echo "bootstrap: installing Python packages into $venv" >&2
   log="$venv/pip-install.log"
   if ! { "$venv/bin/python" -m pip install -q --upgrade pip \
-         && "$venv/bin/python" -m pip install -q -e "$root[fast,test]"; } >"$log" 2>&1; then
+         && "$venv/bin/python" -m pip install -q -e "$root[fast,test,docs]"; } >"$log" 2>&1; then
     tail -n 40 "$log" >&2
     echo "bootstrap: pip install failed (full log: $log)" >&2
     exit 1

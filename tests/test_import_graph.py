@@ -148,7 +148,7 @@ LAYERS = {
               "imported_model"],
     "outputs": ["render", "readers", "paraview", "wall_stress", "solve", "limits", "compare", "report"],
     "dialects": ["dialects.*"],
-    "jobs": ["job", "studies"],
+    "jobs": ["job", "studies", "model_reference"],
     "entry": ["cli", "deckbridge", "api", "api_results", "api_studies", "contact_results"],        # the command line and the package's public face
 }
 

@@ -136,7 +136,8 @@ def test_sweep_converges_monotonically_to_lagrange_and_measures_what_the_solver_
     assert all(b < a for a, b in zip(lift, lift[1:])), lift            # liftoff load falls towards Lagrange's
     assert lift[-1] == pytest.approx(m["lagrange"]["liftoff_load_factor"], rel=0.005)
     rec = out["summary"]["recommended_k_factor"]
-    assert rec == min(k for k, r in zip(ks, rel) if r <= 0.02)
+    lag_onset = m["lagrange"]["liftoff_load_factor"]              # onset included in "reproduces Lagrange"
+    assert rec == min(k for k, r, lo in zip(ks, rel, lift) if r <= 0.02 and abs(lo - lag_onset) <= 0.02 * lag_onset)
     # the metrics against a direct solve: max |d sigma| of the through-wall means at lambda_max
     _, system = condense_model(model)
     p = system.problem

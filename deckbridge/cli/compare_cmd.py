@@ -35,7 +35,7 @@ def compare_cmd(sources, outdir, model_path, overrides, load_factors, formats, s
     from ..compare.onsets import describe
     from ..mesh import build_mesh
     from ..readers import read_result
-    from ..report import write_report
+    from ..studies.verdict import write_report_with_verdict
 
     model = load(model_path, list(overrides)) if (model_path or overrides) else None
     if formats and len(formats) not in (1, len(sources)):
@@ -49,7 +49,7 @@ def compare_cmd(sources, outdir, model_path, overrides, load_factors, formats, s
         inputs[src] = name
     result = compare_tables(tables, load_factors=list(load_factors) or None, origins=list(sources), surface=surface)
     shown = {s.label: f"{s.origin} ({inputs[s.origin]})" for s in result.series}
-    paths = write_report(result, outdir, model=model, extra={"inputs": shown})
+    paths = write_report_with_verdict(result, outdir, model=model, extra={"inputs": shown})
     for p in paths:
         click.echo(f"wrote {p}")
     for s in result.series:

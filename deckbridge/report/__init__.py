@@ -5,7 +5,10 @@ reads no input file: it draws what the comparison's source records carry
 (:class:`deckbridge.results.SourceResult`: global figures and fields, see
 :func:`deckbridge.readers.reference.read_source`). ``extra`` (optional dict): 'inputs' {label: text
 shown as the input}, 'global' {label: {'max_von_mises_pa', 'max_displacement_m', 'from'}} (replaces
-the records' figures), 'notes' [lines added to the report].
+the records' figures), 'notes' [lines added to the report], 'verdict' ((verdict, measured rows) of
+:func:`deckbridge.studies.verdict.report_verdict`; absent: no verdict section).
+Given a verdict, the report opens with it (laid out by :mod:`.verdict`, computed by :mod:`deckbridge.studies.verdict`):
+converged or not against Lagrange, penetration / t, the KA to write in the deck; summary.json 'verdict'.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from ..compare.load_path import load_path, status_map
 from .caveats import banners, caveat_lines, deck_options, provenance
 from .figures import global_figure, png_bytes, sigma_n_figure
 from .html import render
+from .verdict import verdict_view
 from .friction_figures import friction_data, resultant_figure, stick_map_figure, tau_sigma_figure
 from .load_path_figures import centred_figure, load_path_figure, status_map_figure, through_wall_figure
 
@@ -63,9 +67,11 @@ def write_report(result: ComparisonResult, outdir, model=None, extra: dict | Non
                                     "solver_options": _solver_options(records[lab])}
                               for lab, s in zip(result.labels, result.series)},
                       solver_versions=solver_versions({s.source for s in result.series}))
+    verdict = extra.get("verdict") or None     # (verdict, measured rows) of deckbridge.studies.verdict
     text = render(result, figures, model=model, glob=glob, inputs=extra.get("inputs"), notes=extra.get("notes"),
                   global_png=None if gfig is None else png_bytes(gfig), path_pngs=path_pngs,
-                  banners=warnings, caveats=cav_lines, provenance=prov, friction_pngs=fric_pngs)
+                  banners=warnings, caveats=cav_lines, provenance=prov, friction_pngs=fric_pngs,
+                  verdict=None if verdict is None else verdict_view(verdict[0], verdict[1], model))
     summary = result.summary()
     summary["load_path"] = json_clean(paths)
     summary["status_map"] = json_clean(maps)
@@ -75,6 +81,8 @@ def write_report(result: ComparisonResult, outdir, model=None, extra: dict | Non
     summary["provenance"] = json_clean(prov)
     summary["global"] = json_clean({lab: glob.get(lab) or None for lab in result.labels})
     summary["model"] = None if model is None else model.to_dict()
+    if verdict is not None:
+        summary["verdict"] = json_clean({**verdict[0], "measured": verdict[1]})
     names = ["report.html", "sigma_n.png", "discrepancy.csv", "summary.json"]
     with staged(outdir) as stage:
         (stage / "report.html").write_text(text, encoding="utf-8")

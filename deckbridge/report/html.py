@@ -75,7 +75,7 @@ def model_rows(model) -> list[tuple[str, str]]:
 def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dict | None = None,
            inputs: dict | None = None, notes: list[str] | None = None, global_png: bytes | None = None,
            path_pngs: list | None = None, banners: list[str] | None = None, caveats: list[str] | None = None,
-           provenance: dict | None = None, friction_pngs: list | None = None) -> str:
+           provenance: dict | None = None, friction_pngs: list | None = None, verdict: dict | None = None) -> str:
     """The report as one HTML string (``figures``: PNG bytes per compared load factor)."""
     glob, inputs = glob or {}, inputs or {}
     points = [_point(pt, png) for pt, png in zip(result.points, figures)]
@@ -103,6 +103,7 @@ def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dic
         model_rows=None if model is None else model_rows(model), global_rows=rows, von_mises_pair=pair,
         global_png=global_png, notes=list(notes or []), path_pngs=list(path_pngs or []),
         banners=list(banners or []), caveats=list(caveats or []), friction_pngs=list(friction_pngs or []),
+        verdict=verdict,
         provenance=[(k, str(v)) for k, v in (provenance or {}).items() if k != "sources"],
         definitions=[f"{k} [{q.unit}], weighting {q.weighting}: {q.definition}" for k, q in Q.DEFINITIONS.items()])
 

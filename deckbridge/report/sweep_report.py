@@ -35,7 +35,7 @@ def metrics_figure(summary: dict) -> Figure:
         if not pk:
             continue
         k = np.array([d["k_factor"] for d in pk])
-        lab = f"mesh {m['mesh']}"
+        lab = m.get("name") or f"mesh {m['mesh']}"
         rel = np.array([max(d["max_rel_diff"], 1e-16) for d in pk]) * 100
         ax[0, 0].loglog(k, rel, "o-", color=col, label=lab)
         for j, lf in enumerate(m["compared_load_factors"]):
@@ -88,16 +88,21 @@ def _mesh_rows(m: dict) -> list[list[str]]:
     if not lag.get("error"):
         peak = list(lag["peak_compression_pa"].values())[-1]
         rows.append(["Lagrange", "–", "–", "–", "–", mpa(peak), mpa(lag.get("node_peak_compression_pa")),
-                     mpa(lag.get("max_tension_pa")), fmt(lag.get("liftoff_load_factor")), "reference"])
+                     mpa(lag.get("max_tension_pa")), fmt(lag.get("liftoff_load_factor")), "–", "reference", "reference"])
     for d in m["penalty"]:
         if d.get("error"):
-            rows.append([f"penalty k = {d['k_factor']:g}"] + ["–"] * 8 + [d["error"]])
+            rows.append([f"penalty k = {d['k_factor']:g}"] + ["–"] * 10 + [d["error"]])
             continue
         rows.append([f"penalty k = {d['k_factor']:g}", mpa(d["max_abs_diff_pa"]), f"{d['max_rel_diff'] * 100:.2f}",
                      fmt(d["worst_load_factor"]), f"{d['liftoff_zone_iou']:.3f}", mpa(d["peak_compression_pa"]),
                      mpa(d["node_peak_compression_pa"]), mpa(d["max_tension_pa"]), fmt(d["liftoff_load_factor"]),
-                     "yes" if d["within_tol"] else "no"])
+                     _pct(d.get("onset_rel_diff")), "yes" if d["within_tol"] else "no",
+                     "yes" if d.get("reproduces") else "no"])
     return rows
+
+
+def _pct(v) -> str:
+    return "–" if v is None else ("only one lifts off" if v == float("inf") else f"{v * 100:.2f}")
 
 
 POINT_HEAD = ["case"] + SOURCE_HEAD[1:] + ["max |ΔσN| vs Lagrange [MPa]", "zone IoU"]    # the columns of _point_rows
@@ -165,7 +170,7 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None, quantiti
         for pt in ([] if r.comparison is None else r.comparison.points):
             if _drawn(pt, summary["tol"]):
                 jobs.append((sigma_png, (pt, r.comparison.labels,
-                                         f"mesh {m['mesh']}: σN vs azimuth, λ = {pt.load_factor:.4g} ({pt.what})")))
+                                         f"{m.get('name') or 'mesh ' + m['mesh']}: σN vs azimuth, λ = {pt.load_factor:.4g} ({pt.what})")))
     for c in summary.get("claims") or []:
         if not c.get("error"):
             q = quantities[quantities["case_id"].str.startswith(c["variant"] + "_")] if quantities is not None else None
@@ -177,11 +182,14 @@ def render_sweep(summary: dict, results: list, model=None, mapper=None, quantiti
         points = None if r.comparison is None else [
             {"load_factor": pt.load_factor, "what": pt.what, "rows": _point_rows(pt),
              "png": next(pngs) if _drawn(pt, summary["tol"]) else None} for pt in r.comparison.points]
-        meshes.append({"label": m["mesh"], "recommended": fmt(m["recommended_k_factor"], "g"), "rows": _mesh_rows(m),
+        rec = m.get("recommended") or {}
+        meshes.append({"label": m.get("name", m["mesh"]), "recommended": rec.get("text", fmt(m["recommended_k_factor"], "g")),
+                       "rows": _mesh_rows(m),
                        "monotone": m.get("max_rel_diff_never_grows_with_k"), "points": points})
     claims = _claims_view(summary, quantities, pngs)
     return env().get_template("sweep.html.j2").render(claims=claims, claims_definition=summary.get("claims_definition"),
         ver=deckbridge_version(), penalty_rule=summary["penalty_rule"], recommended=summary["recommended_k_factor"],
+        rec_terms=summary.get("recommended") or {},
         lagrange_reference=summary.get("lagrange_reference"),
         recommended_note=summary["recommended_k_factor_note"], tol_pct=summary["tol"] * 100, metrics_png=metrics,
         meshes=meshes, figure_below_pct=FIGURE_BELOW * 100, point_head=POINT_HEAD,

@@ -4,7 +4,8 @@
 lacks, storing each as it finishes, then measures every case against the Lagrange reference of its
 mesh (:mod:`.metrics`) and writes, atomically:
 
-  DIR/summary.json   the tables (per mesh and k) and the recommended k-factor; deterministic: a
+  DIR/summary.json   the tables (per mesh and k) and the recommended k-factor (the smallest that reproduces
+                     Lagrange, onset included, :mod:`.recommend`) as alpha and KA; deterministic: a
                      resumed study writes the same file as an uninterrupted one
   DIR/sweep.csv      one row per (mesh, case, compared load factor)
   DIR/quantities.csv the tidy table of the compared quantities per case at the claims' load factor
@@ -54,6 +55,8 @@ from .local import LocalExecutor
 from .claims import tidy_frame, variant_claims
 from ..compare.series import series_of
 from .metrics import VariantResult, monotone, rnd, variant_metrics
+from .recommend import node_stiffness, overall_recommendation, variant_recommendation
+from ..mesh import build_mesh
 from .store import CaseStore
 from .tasks import condense_or_error, condense_variant, solve_case, solve_or_error, solve_variant_batch
 
@@ -308,20 +311,20 @@ def _executor_name(client, strategy) -> str:
 def make_summary(model: Model, variants, results: list[VariantResult], k_factors, tol, open_stiffness,
                  load_factors) -> dict:
     """The deterministic summary (no timings, no run ids): rounded to 10 significant digits."""
-    meshes = []
-    for v, r in zip(variants, results):
+    meshes, recs, k_cs = [], [], [node_stiffness(build_mesh(v.model)) for v in variants]
+    for v, r, kc in zip(variants, results, k_cs):
         m = v.model.mesh
+        rec = variant_recommendation(v, kc, r.per_k, r.lagrange, tol)
+        recs.append(rec)
         meshes.append({
-            "mesh": v.label, "grid": dict(v.grid), "n_theta": m.n_theta, "n_z": m.n_z, "n_r": m.n_r, "overrides": dict(v.overrides),
+            "mesh": v.label, "name": rec["name"], "grid": dict(v.grid), "n_theta": m.n_theta, "n_z": m.n_z, "n_r": m.n_r, "overrides": dict(v.overrides),
             "compared_load_factors": [] if r.comparison is None else [p.load_factor for p in r.comparison.points],
-            "lagrange": r.lagrange, "penalty": r.per_k, "recommended_k_factor": r.recommended_k_factor,
+            "lagrange": r.lagrange, "penalty": r.per_k, "recommended_k_factor": rec["k_factor"], "recommended": rec,
             **({"augmented": r.augmented} if r.augmented else {}),
             "max_rel_diff_never_grows_with_k": monotone([d["max_rel_diff"] for d in r.per_k if not d.get("error")]),
             "errors": r.errors,
         })
-    everywhere = [k for k in k_factors
-                  if all(any(d["k_factor"] == k and d["within_tol"] for d in r.per_k) for r in results)]
-    rec = min(everywhere) if everywhere else None
+    overall = overall_recommendation(k_factors, variants, k_cs, recs, [r.per_k for r in results], tol)
     pen = model.contact.penalty
     return rnd({
         "conventions": "sigma_n < 0 compression [Pa]; theta [deg] CCW from +x; differences are "
@@ -343,13 +346,8 @@ def make_summary(model: Model, variants, results: list[VariantResult], k_factors
                 "circumferential springs rigid (k_t follows k)" if pen.k_tangent_follows else
                 f"the same circumferential springs, k_t = {pen.k_tangent:g} N/m")),
         "requested_load_factors": None if load_factors is None else sorted(float(x) for x in load_factors),
-        "recommended_k_factor": rec,
-        "recommended_k_factor_note": (
-            f"smallest k-factor within {tol:g} x |Lagrange peak compression| of Lagrange at every compared "
-            "load factor" + (" on every mesh" if len(results) > 1 else "")
-            if rec is not None else
-            f"no k-factor of the sweep is within {tol:g} x |Lagrange peak compression| of Lagrange at every "
-            "compared load factor" + (" on every mesh" if len(results) > 1 else "")),
+        "recommended_k_factor": overall["k_factor"], "recommended": overall,
+        "recommended_k_factor_note": overall["note"],
         "beam_theory_liftoff_load_factor": model.beam_theory_liftoff(),
         "meshes": meshes,
         "model_definition": model.to_dict(),
