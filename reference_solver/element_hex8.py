@@ -104,9 +104,10 @@ class Hex8i(Hex8):
             det, grad = self.point_gradients(xyz, xi)
             Bu[g], dets[g] = strain_operator(grad), det
             Ba[g] = strain_operator(self._mode_gradients(inv0, det0, det, xi))
-        D = elasticity_matrix(E, nu)
-        w = dets[:, :, None, None]                        # Gauss weights 1
-        Kaa = np.einsum("geki,kl,gelj->eij", Ba * w, D, Ba, optimize=True)
-        Kau = np.einsum("geki,kl,gelj->eij", Ba * w, D, Bu, optimize=True)
+        BaD = np.swapaxes(Ba * dets[:, :, None, None], 2, 3) @ elasticity_matrix(E, nu)   # Gauss weights 1
+        Kaa = (BaD @ Ba).sum(0)                           # (ne, 9, 9), batched matmul (einsum: 2.7x slower)
+        Kau = (BaD @ Bu).sum(0)                           # (ne, 9, 24)
+        del BaD
         A = -np.linalg.solve(Kaa, Kau)                    # (ne, 9, 24): alpha = A u_e
-        return (Bu + np.einsum("geij,ejk->geik", Ba, A, optimize=True)).transpose(1, 0, 2, 3)
+        Bu += Ba @ A
+        return Bu.transpose(1, 0, 2, 3)
