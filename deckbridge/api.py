@@ -43,7 +43,7 @@ def _check_method(method: str) -> None:
 
 def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alpha: float | None = None,
           algorithm: str | None = None, on_increment: Callable[[int, int, float], None] | None = None,
-          ) -> Solution:
+          mesh=None) -> Solution:
     """Solve ``model`` with the reference solver and one contact method; what ``deckbridge solve`` computes.
 
     ``method``: 'penalty' (gap springs k_c = alpha A^2 K / V per node, CGAP/PGAP semantics) or 'lagrange'
@@ -51,7 +51,8 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
     replaces contact.penalty.alpha. Lagrange only: ``algorithm`` 'active-set' (default) or 'gauss-seidel'.
     ``on_increment(step, increment, lambda)`` reports progress. The load path: step 1 N, step 2 N +
     lambda (T, M) up to steps.lambda_max, liftoff onsets bisected. Fields for :meth:`Solution.to_paraview`
-    are recovered when ``model.outputs.vtu`` is true.
+    are recovered when ``model.outputs.vtu`` is true. ``mesh``: the model's mesh when already built
+    (:func:`deckbridge.mesh.build_mesh`), else built here.
     """
     from .solve import condense_timed, penalty_factor, solve_system
     from .tangent_springs import follow_springs
@@ -62,7 +63,7 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
         raise DeckbridgeError("alpha/k_factor: only for method penalty (Lagrange has no penalty stiffness)")
     if method == "penalty" and algorithm is not None:
         raise DeckbridgeError(f"algorithm = {algorithm!r}: only for method lagrange")
-    mesh, system, t0 = condense_timed(model, k_factor, alpha)
+    mesh, system, t0 = condense_timed(model, k_factor, alpha, mesh)
     system = follow_springs(system, method, penalty_factor(model, k_factor, alpha))
     df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm, on_increment,
                                     recover=model.outputs.vtu)

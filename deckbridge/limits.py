@@ -195,7 +195,8 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
 
     The quick arithmetic bound first (refuses n_theta = 10^6 in microseconds); when it does not fit, the
     estimate from the mesh's symbolic factorisation decides (:func:`symbolic_estimate`, ``mesh`` when
-    already built), so that a model that fits is not refused on the bound alone.
+    already built, or a function building it, called only then), so that a model that fits is not refused
+    on the bound alone.
     """
     m = model.mesh
     n = model_dofs(model)
@@ -211,7 +212,8 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
     have = available_bytes()
     need, how = copies * quick_estimate(model, n), "arithmetic bound"
     if have is not None and need > have and n <= SYMBOLIC_MAX_DOFS and copies * FLOOR_BYTES_PER_DOF * n <= have:
-        need, how = copies * symbolic_estimate(model, mesh).bytes, "from its symbolic factorisation"
+        need, how = copies * symbolic_estimate(model, mesh() if callable(mesh) else mesh).bytes, \
+            "from its symbolic factorisation"
     if have is not None and need > have:
         each = f" ({copies} at once)" if copies > 1 else ""
         raise InputError(f"{_mesh_name(model)}{what}: {n:,} dofs need about {need / 1e9:.3g} GB{each} ({how}), "

@@ -81,3 +81,30 @@ def test_gram_lower_is_exactly_symmetric_and_equals_l_lt():
         C = gram_lower(L, block=block)
         assert np.array_equal(C, C.T)
         np.testing.assert_allclose(C, L @ L.T, rtol=1e-13, atol=1e-12 * max(1, m))
+
+
+def test_solve_command_builds_the_mesh_once_when_the_guard_needs_it(monkeypatch, tmp_path):
+    """The guard's symbolic path builds the mesh; `deckbridge solve` reuses it (one build per command)."""
+    from click.testing import CliRunner
+
+    from deckbridge import mesh as mesh_mod
+    from deckbridge import solve as solve_mod
+    from deckbridge.cli import main
+
+    monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
+    m = load(None, SMALL + ["outputs.vtu=false"])
+    sym, quick = limits.symbolic_estimate(m).bytes, limits.quick_estimate(m)
+    monkeypatch.setattr(limits, "available_bytes", lambda: 0.5 * (sym + quick))   # the symbolic path decides
+    built = []
+    real = mesh_mod.build_mesh
+
+    def counting(model):
+        built.append(model)
+        return real(model)
+
+    monkeypatch.setattr(mesh_mod, "build_mesh", counting)
+    monkeypatch.setattr(solve_mod, "build_mesh", counting)
+    sets = [a for s in SMALL + ["outputs.vtu=false"] for a in ("--set", s)]
+    res = CliRunner().invoke(main, ["solve", "--method", "lagrange", *sets, "-o", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    assert len(built) == 1

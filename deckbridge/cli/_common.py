@@ -41,6 +41,7 @@ def _on_sigterm(signum, frame):
     raise Terminated()
 
 
+MESH_META = "deckbridge.mesh"      # click context meta: the mesh the memory guard built (None when it built none)
 OPTION_FLAGS = {"k_factor": "--k-factor", "alpha": "--alpha"}   # library argument named in an error -> its flag
 
 
@@ -126,7 +127,8 @@ def main(debug):
 def model_options(func):
     """Add ``[MODEL]``, ``--set key.sub=value`` and ``--allow-large``; pass a validated ``model``.
 
-    The memory estimate of the model's mesh is checked here, before any work (see :mod:`deckbridge.limits`).
+    The memory estimate of the model's mesh is checked here, before any work (see :mod:`deckbridge.limits`);
+    when that needs the mesh, the mesh is left in the context's meta under :data:`MESH_META` for the command.
     """
 
     @click.argument("model_path", metavar="[MODEL]", required=False,
@@ -138,9 +140,17 @@ def model_options(func):
     @functools.wraps(func)
     def wrapper(model_path, overrides, allow_large, **kwargs):
         model: Model = load(model_path, list(overrides))
-        limits.check_memory(model, allow_large)
+        built = []
+
+        def mesh_once():                            # built only when the guard's symbolic path needs it
+            from ..mesh import build_mesh
+            built.append(build_mesh(model))
+            return built[0]
+
+        limits.check_memory(model, allow_large, mesh=mesh_once)
         ctx = click.get_current_context()
         ctx.meta["deckbridge.allow_large"] = allow_large
+        ctx.meta[MESH_META] = built[0] if built else None      # the command reuses it (built once)
         return func(model=model, **kwargs)
 
     return wrapper
