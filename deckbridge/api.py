@@ -17,7 +17,7 @@ multiplies (T, M) in step 2 (step 1: N alone). Result objects: :class:`~deckbrid
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable
 
@@ -25,9 +25,11 @@ from . import summary_keys as K
 from .api_results import Solution
 from .api_studies import Comparison, LiftoffResult, SweepResult
 from .errors import DeckbridgeError
+from .methods import K_METHODS, LAGRANGE, METHODS as REGISTRY, NAMES, PENALTY
 from .model import Model, load
 
-METHODS = ("penalty", "lagrange")
+METHODS = NAMES                      # the method registry (deckbridge/methods.py)
+PAIR = (PENALTY, LAGRANGE)            # what run and liftoff solve unless told
 
 
 def default_model() -> Model:
@@ -54,19 +56,19 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
     are recovered when ``model.outputs.vtu`` is true. ``mesh``: the model's mesh when already built
     (:func:`deckbridge.mesh.build_mesh`), else built here.
     """
-    from .solve import condense_timed, penalty_factor, solve_system
-    from .tangent_springs import follow_springs
+    from .solve import bind, condense_timed, solve_bound
     from .wall_stress import reference_section_onset
 
     _check_method(method)
-    if method == "lagrange" and (alpha is not None or k_factor != 1.0):
-        raise DeckbridgeError("alpha/k_factor: only for method penalty (Lagrange has no penalty stiffness)")
-    if method == "penalty" and algorithm is not None:
+    if not REGISTRY[method].uses_k and (alpha is not None or k_factor != 1.0):
+        raise DeckbridgeError(f"alpha/k_factor: only for method {' or '.join(K_METHODS)} (Lagrange has no penalty "
+                              "stiffness)")
+    if algorithm is not None and algorithm not in REGISTRY[method].algorithms:
         raise DeckbridgeError(f"algorithm = {algorithm!r}: only for method lagrange")
     mesh, system, t0 = condense_timed(model, k_factor, alpha, mesh)
-    system = follow_springs(system, method, penalty_factor(model, k_factor, alpha))
-    df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm, on_increment,
-                                    recover=model.outputs.vtu)
+    kf, system = bind(model, system, method, k_factor, alpha)          # the penalty factor and springs, once
+    df, summary, sol, system = solve_bound(model, mesh, system, kf, method, algorithm=algorithm,
+                                           on_increment=on_increment, recover=model.outputs.vtu)
     summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = \
         reference_section_onset(system, mesh, sol)
     summary[K.WALL_TIME_S] = time.perf_counter() - t0
@@ -85,21 +87,26 @@ class RunResult:
     ``out/reference_<method>/``); ``comparison``: :class:`~deckbridge.api_studies.Comparison` of every source
     (with ``with_ccx`` the CalculiX jobs too); ``report``: the path of ``out/report.html``; ``out``: the folder.
     """
-    penalty: Solution
-    lagrange: Solution
+    penalty: Solution | None
+    lagrange: Solution | None
     comparison: Comparison
     report: Path
     out: Path
+    others: dict = field(default_factory=dict)     # the other methods asked for ('augmented': Solution)
 
     def solutions(self) -> dict[str, Solution]:
-        """{'penalty': ..., 'lagrange': ...}."""
-        return {"penalty": self.penalty, "lagrange": self.lagrange}
+        """{'penalty': ..., 'lagrange': ..., and any other method solved}."""
+        return {k: v for k, v in {"penalty": self.penalty, "lagrange": self.lagrange, **self.others}.items()
+                if v is not None}
 
 
 def run(model: Model | None = None, out: str | Path = "jar-report", *, with_ccx: bool = False,
-        echo: Callable[[str], None] | None = None) -> RunResult:
+        solvers: Iterable[str] = (), echo: Callable[[str], None] | None = None,
+        methods: Iterable[str] = PAIR) -> RunResult:
     """The main job (``deckbridge run``): decks of every dialect, the reference solver with penalty and
-    Lagrange, with ``with_ccx`` CalculiX on its decks, the comparison and ``out/report.html``. All or
+    Lagrange, with ``with_ccx`` CalculiX on its decks (``solvers``: the dialects whose solver runs on its
+    decks, e.g. ``("calculix", "mystran")``; ``with_ccx`` = ``"calculix"`` among them), the comparison and
+    ``out/report.html``. All or
     nothing: a failed run leaves ``out`` as it was. ``model`` None: the default model. ``echo``: where the
     progress lines go (default: nowhere)."""
     from .job import run_job
@@ -107,7 +114,11 @@ def run(model: Model | None = None, out: str | Path = "jar-report", *, with_ccx:
 
     model = default_model() if model is None else model
     penalty_factor(model)                       # the model's own penalty in range, before any work
-    res = run_job(model, out, with_ccx=with_ccx, echo=echo or (lambda line: None))
+    methods = tuple(dict.fromkeys(methods))
+    for m in methods:
+        _check_method(m)
+    res = run_job(model, out, with_ccx=with_ccx, solvers=tuple(solvers), echo=echo or (lambda line: None),
+                  methods=methods)
     comp = res["comparison"]
     sols = {}
     for label, rec in comp.sources.items():
@@ -115,7 +126,8 @@ def run(model: Model | None = None, out: str | Path = "jar-report", *, with_ccx:
         if sm.get(K.SOURCE) == "reference" and sm.get(K.METHOD) in METHODS:
             sols[sm[K.METHOD]] = Solution(model, sm[K.METHOD], rec.table, sm, wall=rec.wall, friction=rec.friction,
                                           _folder=Path(rec.origin))
-    return RunResult(sols["penalty"], sols["lagrange"], Comparison(comp, model), Path(res["report"]), Path(out))
+    return RunResult(sols.pop(PENALTY, None), sols.pop(LAGRANGE, None), Comparison(comp, model), Path(res["report"]),
+                     Path(out), sols)
 
 
 def compare(*sources, model: Model | None = None, load_factors: Iterable[float] | None = None,
@@ -153,14 +165,8 @@ def compare(*sources, model: Model | None = None, load_factors: Iterable[float] 
 
 
 def _read(src, model):
-    from .readers import detect, read
-    from .readers.reference import read_source
-    from .wall_stress import with_ccx_wall
-    name = detect(src)
-    if name == "reference":
-        return read_source(src, model=model)
-    tab = read(src, fmt=name, model=model)
-    return with_ccx_wall(tab, src, model) if name == "calculix" else tab
+    from .readers import read_result
+    return read_result(src, model=model)
 
 
 def sweep(model: Model, k_factors: Iterable[float], out: str | Path, *, meshes: list[dict] | None = None,
@@ -179,7 +185,7 @@ def sweep(model: Model, k_factors: Iterable[float], out: str | Path, *, meshes: 
     return SweepResult(res["summary"], res["variants"], res["quantities"], Path(out))
 
 
-def liftoff(model: Model, methods: Iterable[str] = METHODS, *, tol: float = 1e-3, k_factor: float = 1.0,
+def liftoff(model: Model, methods: Iterable[str] = PAIR, *, tol: float = 1e-3, k_factor: float = 1.0,
             ) -> LiftoffResult:
     """Critical load factor lambda_c of liftoff per method (``deckbridge liftoff``): the smallest lambda on
     (T, M) in step 2 at which a table node opens, bisected to ``tol`` (absolute in lambda), and its azimuth;

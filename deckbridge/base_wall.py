@@ -2,7 +2,7 @@
 
 Moved here from ``reference_solver.stress`` (issue 22: the solver stays generic; these are the skirt's
 quantities). A leaf of deckbridge: imports the solver's generic stress recovery only, so that both
-:mod:`deckbridge.wall_stress` (reference) and :mod:`deckbridge.readers.ccx_el_stress` (CalculiX) use it.
+:mod:`deckbridge.wall_stress` (reference) and :mod:`deckbridge.dialects.calculix.el_stress` (CalculiX) use it.
 Units [m], [Pa]; tension > 0, compression < 0 (as sigma_N). Voigt order (xx, yy, zz, xy, yz, zx).
 """
 

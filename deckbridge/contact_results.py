@@ -1,7 +1,7 @@
 """``deckbridge.read_contact``: the tidy contact table of a Nastran surface-contact OP2, for any model.
 
 A light module (the reader, pandas and pyNastran are imported on the first call, so ``import deckbridge``
-stays fast); the reader is :mod:`deckbridge.readers.nastran_contact`.
+stays fast); the reader is :mod:`deckbridge.dialects.nastran_surface.reader`.
 """
 
 from __future__ import annotations
@@ -20,5 +20,5 @@ def read_contact(path: str | Path, deck: str | Path | None = None, model=None):
     the units when the deck has no ``deckbridge-units`` line. One-line :class:`deckbridge.errors.DeckbridgeError`
     on an OP2 without contact tables, a truncated or garbled file, or non-finite values.
     """
-    from .readers.nastran_contact import read_contact as read
+    from .dialects.nastran_surface.reader import read_contact as read
     return read(path, deck=deck, model=model)

@@ -8,11 +8,13 @@ One root, :class:`DeckbridgeError`, and two kinds the command line tells apart b
 
 A plain ``DeckbridgeError`` counts as an input error (exit 2). :class:`ModelError` is an input error
 whose message is ``key = value: reason`` with the value shortened and escaped (:mod:`.textsafe`).
-This module is a leaf: it imports nothing of deckbridge but :mod:`.textsafe`.
+This module is a leaf: it imports nothing of deckbridge but :mod:`.textsafe`. :func:`read_text`: a file's
+text, or one error line naming it.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 from .textsafe import one_line, show
@@ -71,3 +73,11 @@ class DeckUnsupported(InputError):
     def note(self) -> str:
         """The one line printed where the dialect is left out and the other decks are written."""
         return f"note: {self}; that dialect is left out"
+
+
+def read_text(path: str | Path) -> str:
+    """Text of ``path`` (undecodable bytes replaced); DeckbridgeError naming the file if it cannot be read."""
+    try:
+        return Path(path).read_text(errors="replace")
+    except OSError as exc:
+        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None

@@ -24,7 +24,6 @@ import warnings
 import numpy as np
 import pandas as pd
 
-from .readers._files import beside
 
 FRICTION_CSV = "friction.csv"
 COLUMNS = ["step", "increment", "load_factor", "node", "surface", "theta_deg", "wall", "fn_x_n", "fn_y_n", "fn_z_n",
@@ -77,20 +76,6 @@ def warn_coulomb(table: pd.DataFrame, check: dict) -> None:
                   f"{w['stick_status']}), step {int(w['step'])} increment {int(w['increment'])}: |F_t| = "
                   f"{w['ft_n']:.4g} N against mu F_n = {w['mu_fn_n']:.4g} N (friction.csv): the solution is not "
                   "a Coulomb equilibrium there", stacklevel=2)
-
-
-def read_friction(folder) -> pd.DataFrame | None:
-    """friction.csv of a reference folder (or beside a contact.csv), None when absent or not one."""
-    p = beside(folder, FRICTION_CSV)
-    if p is None:
-        return None
-    try:
-        df = pd.read_csv(p)
-    except (OSError, ValueError, pd.errors.ParserError):
-        return None
-    if not set(COLUMNS) <= set(df.columns) or not df["stick_status"].isin(STATUSES).all():
-        return None
-    return df[COLUMNS]
 
 
 def state_rows(df: pd.DataFrame, load_factor: float) -> pd.DataFrame | None:

@@ -5,13 +5,17 @@ comparison and report. Layout of the output folder DIR:
   DIR/reference_penalty/     contact.csv, summary.json, result.vtu, result.pvd + result_NNN.vtu, wall_stress.csv
                              (reference solver, penalty)
   DIR/reference_lagrange/    the same with Lagrange multipliers
+  DIR/reference_augmented/   the same with the augmented Lagrangian (when asked: ``methods``)
                              (with contact.tangential: friction also friction.csv, deckbridge/friction_table.py)
-  DIR/ccx/                   CalculiX jobs and results, <job>.pvd + <job>_NNN.vtu (--with-ccx)
+  DIR/<run folder>/          with ``solvers``: each dialect's jobs and results, run by its record's runner
+                             (CalculiX: DIR/ccx/, plus <job>.pvd + <job>_NNN.vtu; MYSTRAN: DIR/mystran/)
   DIR/report.html, sigma_n.png, discrepancy.csv, summary.json   the comparison
 
 The job is all or nothing (:func:`deckbridge.outdir.replacing`): the previous run's entries are set aside
 first; a failed or interrupted job (Ctrl-C, SIGTERM: ccx is stopped) leaves DIR as it was, a successful one
 removes what the previous run wrote and this one did not (a stale ``ccx/``). Other files in DIR stay.
+A dialect is run through its record (:class:`deckbridge.dialects.Dialect`: ``run_check``, ``runner``, its
+reader, ``wall_reader``, ``series_writer``), never by its name; the mesh is built once and passed on.
 """
 
 from __future__ import annotations
@@ -19,41 +23,59 @@ from __future__ import annotations
 import shutil
 import time
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Sequence
 
 from . import summary_keys as K
 from .compare import compare_tables
 from .compare.onsets import describe
-from .friction_table import read_friction
+from .dialects import DIALECTS
+from .friction_table import friction_table
+from .methods import LAGRANGE, NAMES, PENALTY
 from .mesh import build_mesh
 from .model import Model
 from .outdir import prepare, replacing
-from .paraview_ccx import write_ccx_series
 from .render import render_all
-from .readers.reference import read_globals
+from .readers import read
+from .readers.reference import solution_globals
 from .report import write_report
 from .report.caveats import reference_caveats
 from .results import SourceResult
-from .solve import condense_model, solve_system, write_outputs
-from .wall_stress import ccx_wall, reference_section_onset, reference_wall, write_wall
+from .solve import condense_model, result_mesh, solve_system, write_outputs
+from .wall_stress import reference_section_onset, reference_wall, write_wall
 
 Echo = Callable[[str], None]
-LAYOUT = ("decks", "reference_penalty", "reference_lagrange", "ccx", "report.html", "sigma_n.png",
-          "discrepancy.csv", "summary.json")          # what a job writes into DIR (set aside by a re-run)
+RUN_METHODS = (PENALTY, LAGRANGE)                     # the reference solves of a job unless told otherwise
+
+
+def layout() -> tuple[str, ...]:
+    """What a job writes into DIR (set aside by a re-run): every method's reference folder and every runnable
+    dialect's run folder included."""
+    return ("decks", *(f"reference_{m}" for m in NAMES),
+            *sorted({d.folder for d in DIALECTS.values() if d.runner}),
+            "report.html", "sigma_n.png", "discrepancy.csv", "summary.json")
 
 
 def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo = print,
-            ccx_timeout_s: float = 1800.0) -> dict:
+            ccx_timeout_s: float = 1800.0, solvers: Sequence[str] = (),
+            methods: tuple[str, ...] = RUN_METHODS) -> dict:
     """Run the main job on ``model`` into ``outdir``, all or nothing; return {'report': path, ...}.
-    ``with_ccx`` on a model the CalculiX decks cannot carry is refused (DeckUnsupported) before any work."""
-    if with_ccx:
-        from .render.calculix import check_supported
-        check_supported(model)
-    with replacing(outdir, "run", LAYOUT) as out:
-        return _job(model, out, with_ccx, echo, ccx_timeout_s)
+    ``solvers``: dialects whose solver runs on their decks too (``with_ccx``: calculix among them);
+    ``ccx_timeout_s``: the time limit of each of their jobs [s]; ``methods``: the reference solves (method
+    names of :mod:`deckbridge.methods`). A dialect that cannot run the model is refused (DeckUnsupported)
+    before any work."""
+    chosen = [DIALECTS[n] for n in dict.fromkeys([*solvers, *(["calculix"] if with_ccx else [])])]
+    no_runner = [d.name for d in chosen if not d.runner]
+    if no_runner:
+        from .errors import DeckbridgeError
+        raise DeckbridgeError(f"`solvers` = {no_runner[0]!r}: deckbridge runs no solver for this dialect "
+                              f"(runnable: {', '.join(n for n, d in sorted(DIALECTS.items()) if d.runner)})")
+    for d in chosen:
+        d.check_run(model)
+    with replacing(outdir, "run", layout()) as out:
+        return _job(model, out, chosen, echo, ccx_timeout_s, methods)
 
 
-def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: float) -> dict:
+def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float, methods=RUN_METHODS) -> dict:
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
     decks = render_all(model, out / "decks", mesh=mesh,
@@ -64,7 +86,7 @@ def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: flo
     echo(f"reference solver: {system.dofs} dofs, {system.n_contacts} contact rows, "
          f"condensed in {time.perf_counter() - t0:.1f} s")
     tables, origins, summaries = [], [], {}
-    for method in ("penalty", "lagrange"):
+    for method in methods:
         df, summary, sol = solve_system(model, mesh, system, method, recover=model.outputs.vtu)
         folder = out / f"reference_{method}"
         lam_s, th_s = reference_section_onset(system, mesh, sol)
@@ -73,29 +95,28 @@ def _job(model: Model, out: Path, with_ccx: bool, echo: Echo, ccx_timeout_s: flo
         write_outputs(folder, model, system, sol, df, summary, mesh)
         wall = reference_wall(system, mesh, sol)
         write_wall(folder, wall)
-        tables.append(SourceResult(df, str(folder), summary=summary, wall=wall, friction=read_friction(folder),
-                                   **read_globals(folder, [method])))
+        fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)
+        vtu = result_mesh(system.problem, sol) if model.outputs.vtu and sol.fields else None
+        tables.append(SourceResult(df, str(folder), summary=summary, wall=wall, friction=fric,
+                                   **solution_globals(vtu, method)))
         origins.append(str(folder))
         summaries[method] = summary
 
-    if with_ccx:
-        from .dialects import DIALECTS
-        from .readers import read
-        calculix = DIALECTS["calculix"]      # its decks, its runner (ccx), its reader
-        runner = calculix.run_module()
-        ccx_dir = prepare(out / "ccx")
-        for deck in calculix.decks_in(out / "decks", model.name):
-            job = ccx_dir / deck.name
+    for d in chosen:                            # its decks, its runner, its reader, its wall and series
+        run_dir = prepare(out / d.folder)
+        for deck in d.decks_in(out / "decks", model.name):
+            job = run_dir / deck.name
             shutil.copyfile(deck, job)
-            echo(f"ccx: running {job.name}")
-            run = runner.run(job, timeout_s=ccx_timeout_s,
-                             progress=lambda line: line.lower().startswith("increment") and echo(f"  ccx {line}"))
-            echo(f"ccx: {job.name} finished in {run.seconds:.1f} s")
-            wall = ccx_wall(job.with_suffix(".dat"), model, mesh)
-            tables.append(SourceResult(read(job.with_suffix(".frd"), fmt=calculix.reader, model=model), str(job),
-                                       wall=wall))
-            if model.outputs.vtu:       # ParaView series <job>.pvd + <job>_NNN.vtu
-                write_ccx_series(job, model, ccx_dir)
+            echo(f"{d.source}: running {job.name}")
+            t_run = time.perf_counter()
+            result = d.run(job, timeout_s=timeout_s,
+                           progress=lambda line: line.lower().startswith(("increment", "terminated"))
+                           and echo(f"  {d.source} {line}"))
+            echo(f"{d.source}: {job.name} finished in {time.perf_counter() - t_run:.1f} s")
+            table = read(result, fmt=d.reader, model=model, mesh=mesh)
+            tables.append(SourceResult(table, str(job), wall=d.wall(result, model, mesh)))
+            if model.outputs.vtu:       # ParaView series (CalculiX: <job>.pvd + <job>_NNN.vtu)
+                d.write_series(job, model, run_dir, mesh, table)
             origins.append(str(job))
 
     result = compare_tables(tables, origins=origins)

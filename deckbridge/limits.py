@@ -210,12 +210,12 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
     n = model_dofs(model)
     if allow_large or allow_large_from_env():
         total = total_bytes()
-        if total is not None and copies * FLOOR_BYTES_PER_DOF * n > total:     # --allow-large cannot help
+        if total is not None and copies * FLOOR_BYTES_PER_DOF * n > total:     # allow_large cannot help
             name = (f"mesh.file = {str(m.file)!r}" if _imported(model) else
                     f"mesh.n_theta x mesh.n_z x mesh.n_r = {m.n_theta} x {m.n_z} x {m.n_r}")
             raise InputError(f"{name}{what}: {n:,} dofs need at least {copies * FLOOR_BYTES_PER_DOF * n / 1e9:.3g} "
                              f"GB (the stiffness matrix alone), more than this machine's memory and swap "
-                             f"({total / 1e9:.3g} GB), even with --allow-large: use a coarser mesh")
+                             f"({total / 1e9:.3g} GB), even with `allow_large`: use a coarser mesh")
         return copies * quick_estimate(model, n)
     have = available_bytes()
     need, how = copies * quick_estimate(model, n), "arithmetic bound"
@@ -225,7 +225,7 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
     if have is not None and need > have:
         each = f" ({copies} at once)" if copies > 1 else ""
         raise InputError(f"{_mesh_name(model)}{what}: {n:,} dofs need about {need / 1e9:.3g} GB{each} ({how}), "
-                         f"{have / 1e9:.3g} GB available: use a coarser mesh, or --allow-large "
+                         f"{have / 1e9:.3g} GB available: use a coarser mesh, or `allow_large` "
                          f"(or {ALLOW_ENV}=1) to try anyway")
     return need
 
@@ -241,15 +241,15 @@ def check_workers(workers: int | None) -> None:
     if workers is None:
         return
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise InputError(f"--workers = {workers!r}: must be a positive integer")
+        raise InputError(f"`workers` = {workers!r}: must be a positive integer")
     cap = MAX_WORKERS_PER_CORE * max(1, os.cpu_count() or 1)
     if workers > cap:
-        raise InputError(f"--workers = {workers}: at most {cap} ({MAX_WORKERS_PER_CORE} per core) are allowed")
+        raise InputError(f"`workers` = {workers}: at most {cap} ({MAX_WORKERS_PER_CORE} per core) are allowed")
 
 
 def check_liftoff_tol(tol: float, lambda_max: float) -> None:
     """The bisection on lambda must be able to reach ``tol``: tol >= TOL_REL_MIN x lambda_max."""
     floor = TOL_REL_MIN * lambda_max
     if isinstance(tol, (int, float)) and tol == tol and 0 < tol < floor:
-        raise InputError(f"--tol = {tol!r}: must be at least {floor:g} ({TOL_REL_MIN:g} x steps.lambda_max): "
+        raise InputError(f"`tol` = {tol!r}: must be at least {floor:g} ({TOL_REL_MIN:g} x steps.lambda_max): "
                          "finer than the bisection can resolve in double precision")

@@ -28,6 +28,10 @@ def build_mesh(model: Model) -> SkirtMesh:
     if model.mesh.file is not None:   # the analyst's own mesh (deckbridge/importers)
         from .importers.general import imported_mesh
         return imported_mesh(model)
+    from .mesh_order import EIGHT_NODE, build_any_order, solver_name
+    element = solver_name(model)
+    if element not in EIGHT_NODE:      # quadratic and tetrahedral skirts (issue 23)
+        return build_any_order(model)
     g, ms = model.geometry, model.mesh
     nt, nr, nz = ms.n_theta, ms.n_r, ms.n_z
     theta = 2.0 * np.pi * np.arange(nt) / nt
@@ -106,4 +110,5 @@ def build_mesh(model: Model) -> SkirtMesh:
     return SkirtMesh(nodes=nodes, hexes=hexes, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=w[top_nodes],
                      ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz,
-                     base_elems=base_elems, top_elems=np.flatnonzero(top), stop_elems=stop_elems)
+                     base_elems=base_elems, top_elems=np.flatnonzero(top), stop_elems=stop_elems,
+                     element=element)

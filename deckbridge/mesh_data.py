@@ -37,8 +37,14 @@ def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.
     """Base area [m^2] each azimuth of the wall stands on: the nodal shares (:func:`quad_nodal_areas`) of
     the base faces (nodes 1-4) of every bottom-row hexahedron ``bottom_hexes`` (ne, 8), pad or not, summed
     over each azimuth's through-wall base nodes ``wall_nodes`` (na, nw) (``deckbridge.base_wall.BaseWall.nodes``).
-    Sums to the whole base section, so that Sum sigma_zz x area is the wall's axial resultant there."""
-    faces = np.asarray(bottom_hexes, np.int64)[:, :4]
+    Sums to the whole base section, so that Sum sigma_zz x area is the wall's axial resultant there.
+    Cells of other types (``mesh.element``, issue 23: 4-, 10-, 15-, 20-node): the positive (HRZ) nodal areas
+    of their faces on the lowest plane (:func:`deckbridge.face_areas.base_face_areas`)."""
+    cells = np.asarray(bottom_hexes, np.int64)
+    if cells.shape[1] != 8:
+        from .face_areas import base_face_areas
+        return base_face_areas(nodes, cells)[np.asarray(wall_nodes, np.int64)].sum(axis=1)
+    faces = cells[:, :4]
     area = np.zeros(nodes.shape[0])
     np.add.at(area, faces.ravel(), quad_nodal_areas(nodes[faces]).ravel())
     return area[np.asarray(wall_nodes, np.int64)].sum(axis=1)
@@ -114,7 +120,7 @@ class ContactRows:
 class SkirtMesh:
     """The skirt's hexahedral mesh with the contact and load-introduction data derived from the model."""
     nodes: np.ndarray          # (n, 3) [m]
-    hexes: np.ndarray          # (m, 8) 0-based node indices
+    hexes: np.ndarray          # (m, k) 0-based node indices of the cells of ``element`` (CalculiX order)
     table: SlaveSet            # base ring on the table plane z = 0
     stop: SlaveSet | None      # base-ring nodes on the stop face, None when contact.stop.side = none
     k_tangent: np.ndarray      # circumferential restraint per table slave node [N/m]
@@ -130,6 +136,13 @@ class SkirtMesh:
     stop_elems: np.ndarray | None = None   # first-row hexahedra on the stop side (S6 inner / S4 outer)
     node_ids: np.ndarray | None = None     # user node id of every node (None: index + 1)
     elem_ids: np.ndarray | None = None     # user element id of every hexahedron (None: index + 1)
+    element: str = "c3d8i"                 # solver name of the cells' type (issue 23, mesh_order.py)
+    table_faces: tuple | None = None       # quadratic/tet types: the table's faces [(FaceType, conn), ...]
+
+    @property
+    def quadratic_faces(self) -> bool:
+        """True when a contact face has mid-side nodes (8- or 6-node faces: nodal contact is not exact)."""
+        return self.table_faces is not None and any(f.n_nodes > f.n_corners for f, _ in self.table_faces)
 
     @property
     def n_nodes(self) -> int:

@@ -6,6 +6,7 @@ A leaf module (imports only :mod:`deckbridge.errors`).
 from __future__ import annotations
 
 import math
+import warnings
 import re
 from typing import Any
 
@@ -100,3 +101,20 @@ def _nu(value: Any) -> float:
         raise ModelError("material.nu", value, f"must be >= {NU_MIN:g}: as nu approaches -1 the shear stiffness "
                          "dwarfs the bulk stiffness and the reactions lose balance (wrong contact stresses)")
     return nu
+
+
+MESH_ELEMENTS = ("hex8i", "hex8", "hex20", "hex20r", "tet10", "wedge15", "tet4")   # mesh.element values
+
+
+def check_element(value, mesh_file, ModelError) -> str:
+    """Validate ``mesh.element`` (one line naming the key); warn for tet4; the 8-node alias is kept."""
+    if not isinstance(value, str) or value.lower() not in MESH_ELEMENTS:
+        raise ModelError("mesh.element", value, f"must be one of {', '.join(MESH_ELEMENTS)}")
+    value = value.lower()
+    if mesh_file is not None and value != "hex8i":
+        raise ModelError("mesh.element", value, "applies to the parametric skirt only: an imported mesh "
+                         "(mesh.file) keeps its own element types")
+    if value == "tet4":
+        warnings.warn("mesh.element = tet4: the 4-node tetrahedron is constant strain and fails the bending "
+                      "patch test (the wall's bending is stiff); mesh finely or use tet10", stacklevel=3)
+    return value

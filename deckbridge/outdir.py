@@ -160,23 +160,23 @@ def check_target(outdir: str | Path, command: str, force: bool = False, sources:
     for src in sources:
         s = Path(os.path.realpath(src))
         if s.is_dir() and (real == s or s in real.parents):
-            raise InputError(f"-o = {str(out)!r}: is {'the' if real == s else 'inside the'} source folder "
+            raise InputError(f"`outdir` = {str(out)!r}: is {'the' if real == s else 'inside the'} source folder "
                              f"{str(src)!r}; the report would overwrite its results: choose another folder")
     if out.exists() and not out.is_dir():
-        raise InputError(f"-o = {str(out)!r}: exists and is not a folder")
+        raise InputError(f"`outdir` = {str(out)!r}: exists and is not a folder")
     owner = owner_of(out)
     if owner is not None and owner != command and not force:
-        raise InputError(f"-o = {str(out)!r}: written by 'deckbridge {owner}'; 'deckbridge {command}' would mix "
-                         "or overwrite its files: choose another folder, or --force")
+        raise InputError(f"`outdir` = {str(out)!r}: written by 'deckbridge {owner}'; 'deckbridge {command}' would mix "
+                         "or overwrite its files: choose another folder, or `force`")
     if owner is None and out.is_dir() and not force:
         try:
             theirs = sorted(entries(out))
         except OSError as exc:
-            raise InputError(f"-o = {str(out)!r}: cannot list ({exc.strerror})") from None
+            raise InputError(f"`outdir` = {str(out)!r}: cannot list ({exc.strerror})") from None
         if theirs:
             shown = ", ".join(theirs[:3]) + (", ..." if len(theirs) > 3 else "")
-            raise InputError(f"-o = {str(out)!r}: holds files deckbridge did not write ({shown}); 'deckbridge "
-                             f"{command}' could overwrite them: choose a new or empty folder, or --force")
+            raise InputError(f"`outdir` = {str(out)!r}: holds files deckbridge did not write ({shown}); 'deckbridge "
+                             f"{command}' could overwrite them: choose a new or empty folder, or `force`")
     return out
 
 

@@ -14,13 +14,13 @@ from .errors import ModelError
 def parse_override(text: str) -> tuple[str, Any]:
     """Parse ``key.sub=value``; the value is read as YAML (numbers, null, strings)."""
     if "=" not in text:
-        raise ModelError("--set", text, "expected key.sub=value")
+        raise ModelError("`overrides`", text, "expected key.sub=value")
     key, raw = text.split("=", 1)
     key = key.strip()
     if not key:
-        raise ModelError("--set", text, "empty key")
+        raise ModelError("`overrides`", text, "empty key")
     if len(text) > 4096:
-        raise ModelError("--set", text, "longer than 4096 characters")
+        raise ModelError("`overrides`", text, "longer than 4096 characters")
     try:
         value = safe_yaml.load(raw) if raw.strip() else None
     except safe_yaml.StrictYAMLError as exc:

@@ -179,10 +179,18 @@ def write_pvd(path: Path, files: list[str], times: np.ndarray, comment: str, lab
     return path
 
 
+def vtk_cells(cells: np.ndarray) -> tuple[str, np.ndarray]:
+    """(meshio cell type, cells) of the skirt's cells (m, k) by their node count (issue 23; CalculiX and VTK
+    share the node order). 15-node wedges go as their 6 corners: meshio 5.3 cannot hold 'wedge15'."""
+    cells = np.asarray(cells, np.int64)
+    kind = {8: "hexahedron", 20: "hexahedron20", 10: "tetra10", 15: "wedge", 4: "tetra"}[cells.shape[1]]
+    return kind, (cells[:, :6] if cells.shape[1] == 15 else cells)
+
+
 def state_mesh(nodes: np.ndarray, hexes: np.ndarray, state: dict):
-    """meshio mesh of one state {'point', 'cell', ...} on the hexahedra."""
+    """meshio mesh of one state {'point', 'cell', ...} on the cells (any type of :func:`vtk_cells`)."""
     import meshio
-    return meshio.Mesh(nodes, [("hexahedron", hexes)], point_data=state["point"],
+    return meshio.Mesh(nodes, [vtk_cells(hexes)], point_data=state["point"],
                        cell_data={k: [v] for k, v in state["cell"].items()})
 
 
@@ -260,7 +268,7 @@ def result_mesh(p, sol, U: np.ndarray | None = None):
             point[f"{surf}_sigma_n_step{s}_pa"] = sig
             point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
         cell[f"von_mises_step{s}_pa"] = [element_von_mises(p, u)]
-    return meshio.Mesh(p.nodes, [("hexahedron", p.hexes)], point_data=point, cell_data=cell)
+    return meshio.Mesh(p.nodes, [vtk_cells(b.cells) for b in p.blocks], point_data=point, cell_data=cell)
 
 
 def write_reference_vtus(folder: str | Path, model, mesh: SkirtMesh, system, sol, base: str = "result",

@@ -35,6 +35,8 @@ import pandas as pd
 
 from .azimuth import arc_weights, periodic_interp, snap_deg
 
+CLAIM_QUANTITIES = ("sigma_n_wall_pa", "szz_inner_pa", "szz_outer_pa", "szz_mean_pa")   # judged by the paper's claims (studies/claims.py)
+
 RESIDUAL_WARN = 0.01          # equilibrium residual warned above this (relative)
 TENSION_WARN = 0.01           # open-gap tension warned above this fraction of the peak compression
 PENETRATION_WARN = 0.1        # force-free penetration warned above this fraction of a loaded node's largest

@@ -33,14 +33,19 @@ from .outdir import staged
 from .numbering.skirt import mesh_node_ids
 from .paraview import result_mesh, write_reference_vtus  # noqa: F401  (result_mesh: solve's public name)
 from .results import conform, with_forces
+from .methods import method as method_of
 from .tangent_springs import follow_springs
 
 SOURCE = "reference"
 
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
-    """Translate the model and its mesh into the solver's arrays (C3D8I elements)."""
+    """Translate the model and its mesh into the solver's arrays (the mesh's element type; refused with
+    ModelError on quadratic contact faces, where the solver's nodal contact law is wrong)."""
     mesh = mesh or build_mesh(model)
+    if mesh.quadratic_faces:          # issue 23: the solver's contact law is nodal (mesh_order.py)
+        from .mesh_order import QUADRATIC_REFUSED
+        raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
@@ -48,7 +53,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
     kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
     return rs.Problem(
-        nodes=mesh.nodes, hexes=mesh.hexes, E=model.material.E, nu=model.material.nu,
+        nodes=mesh.nodes, hexes=mesh.hexes, element=mesh.element, E=model.material.E, nu=model.material.nu,
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
         contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
         spring_nodes=mesh.table.nodes[:0 if fric else None],
@@ -124,16 +129,34 @@ def _in_range(model: Model, kf: float, key: str, value: float) -> float:
     return kf
 
 
+def bind(model: Model, system: rs.CondensedSystem, method: str, k_factor: float = 1.0,
+         alpha: float | None = None) -> tuple[float, rs.CondensedSystem]:
+    """The one place the penalty factor and the tangential springs are applied: (final k-factor, the system
+    the solve runs on). ``k_factor``/``alpha`` checked by :func:`penalty_factor`; the springs re-bound by
+    :func:`deckbridge.tangent_springs.follow_springs` (a small dense solve on the spring dofs when they
+    change; none when the system is already bound to this method and factor)."""
+    method_of(method)
+    kf = penalty_factor(model, k_factor, alpha)
+    return kf, follow_springs(system, method, kf)
+
+
 def solve_path(model: Model, system: rs.CondensedSystem, method: str, k_factor: float = 1.0, *,
                lambda_max: float | None = None, liftoff_tol: float | None = None, algorithm: str | None = None,
                on_increment: Callable[[int, int, float], None] | None = None,
                recover: bool = True) -> rs.Solution:
-    """The one solve entry: step 1 N, step 2 N + lambda (T, M) up to ``lambda_max`` (default the
-    model's steps.lambda_max) in steps.increments, liftoff onset bisected on the table to
-    ``liftoff_tol`` (relative to lambda_max; default the solver's). ``k_factor`` is the final penalty
-    factor (see :func:`penalty_factor`); ``on_increment(step, increment, lambda)`` reports progress."""
-    kw = {} if liftoff_tol is None else {"liftoff_tol": liftoff_tol}
+    """The model's load path: step 1 N, step 2 N + lambda (T, M) up to ``lambda_max`` (default the
+    model's steps.lambda_max) in steps.increments, liftoff onset located on the table to ``liftoff_tol``
+    (relative to lambda_max; default the solver's). ``k_factor`` is the final penalty factor (see
+    :func:`penalty_factor`); the springs are bound here unless ``system`` is already bound (:func:`bind`);
+    ``on_increment(step, increment, lambda)`` reports progress."""
     system = follow_springs(system, method, k_factor)     # k_t = k_factor x k_c when k_t follows k_n
+    return _path(model, system, method, k_factor, lambda_max=lambda_max, liftoff_tol=liftoff_tol,
+                 algorithm=algorithm, on_increment=on_increment, recover=recover)
+
+
+def _path(model, system, method, k_factor, *, lambda_max=None, liftoff_tol=None, algorithm=None,
+          on_increment=None, recover=True) -> rs.Solution:
+    kw = {} if liftoff_tol is None else {"liftoff_tol": liftoff_tol}
     try:
         return rs.solve_path(system, method, k_factor, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
                              lambda_max=model.steps.lambda_max if lambda_max is None else lambda_max,
@@ -157,14 +180,20 @@ def solve_system(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, meth
                  on_increment: Callable[[int, int, float], None] | None = None,
                  recover: bool = True) -> tuple[pd.DataFrame, dict, rs.Solution]:
     """Run the load path of ``model`` on an existing condensed system; (table, summary, solution)."""
+    return solve_bound(model, mesh, *bind(model, system, method, k_factor, alpha)[::-1], method,
+                       algorithm=algorithm, on_increment=on_increment, recover=recover)[:3]
+
+
+def solve_bound(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, kf: float, method: str, *,
+                algorithm: str | None = None, on_increment=None,
+                recover: bool = True) -> tuple[pd.DataFrame, dict, rs.Solution, rs.CondensedSystem]:
+    """The load path on a system :func:`bind` returned (factor ``kf`` applied); (table, summary, solution, system)."""
     t0 = time.perf_counter()
-    kf = penalty_factor(model, k_factor, alpha)
-    system = follow_springs(system, method, kf)
-    sol = solve_path(model, system, method, kf, algorithm=algorithm, on_increment=on_increment, recover=recover)
+    sol = _path(model, system, method, kf, algorithm=algorithm, on_increment=on_increment, recover=recover)
     df = contact_table(system.problem, mesh, sol)
     summary = make_summary(model, mesh, system, sol, df, kf)
     summary["wall_time_s"] = system.info.get("total_s", 0.0) + (time.perf_counter() - t0)
-    return df, summary, sol
+    return df, summary, sol, system
 
 
 def condense_timed(model: Model, k_factor: float = 1.0, alpha: float | None = None,
@@ -236,7 +265,7 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
     ends = {s: int(np.flatnonzero(sol.step == s)[-1]) for s in (1, 2)}
     react = {str(s): reactions(p, sol, i) for s, i in ends.items()}
     pen = None
-    if sol.method == "penalty":
+    if method_of(sol.method).uses_k:
         pen = {"k_factor": k_factor, "alpha": (model.contact.penalty.alpha * k_factor
                                                if model.contact.penalty.k_normal is None else None),
                "k_open_ratio": p.k_open_ratio,
@@ -252,6 +281,7 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
         "reaction_force_n": {s: v[0].tolist() for s, v in react.items()},
         "reaction_moment_nm": {s: v[1].tolist() for s, v in react.items()},
         "penalty_k": pen,
+        summary_keys.AUGMENTED: _augmented_summary(sol),
         "k_tangent": _stats(p.spring_k),
         "friction": sol.friction_check(p, p.friction) if p.friction > 0 else None,
         "tangential": p.tangential,
@@ -263,6 +293,15 @@ def make_summary(model: Model, mesh: SkirtMesh, system: rs.CondensedSystem, sol:
         "wall_time_s": None,
     }
     return out
+
+
+def _augmented_summary(sol: rs.Solution) -> dict | None:
+    """The augmented Lagrangian's work and accuracy: augmentations (total, largest per increment) and the
+    final penetration against its tolerance [m]; None for the other methods."""
+    if sol.augmentations is None:
+        return None
+    return {"augmentations": int(sol.augmentations.sum()), "augmentations_max": int(sol.augmentations.max()),
+            "penetration_m": float(sol.penetration.max()), "penetration_tol_m": sol.penetration_tol}
 
 
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
@@ -287,9 +326,9 @@ def run_solve(model: Model, method: str, outdir: str | Path, k_factor: float = 1
               on_increment=None) -> tuple[list[Path], dict]:
     """The ``deckbridge solve`` job: solve and write; returns (written paths, summary)."""
     mesh, system, t0 = condense_timed(model, k_factor, alpha)
-    system = follow_springs(system, method, penalty_factor(model, k_factor, alpha))
-    df, summary, sol = solve_system(model, mesh, system, method, k_factor, alpha, algorithm,
-                                    on_increment, recover=False)      # write_outputs recovers every row once
+    kf, system = bind(model, system, method, k_factor, alpha)
+    df, summary, sol, system = solve_bound(model, mesh, system, kf, method, algorithm=algorithm,
+                                           on_increment=on_increment, recover=False)  # write_outputs recovers every row once
     summary["wall_time_s"] = time.perf_counter() - t0
     return write_outputs(outdir, model, system, sol, df, summary, mesh), summary
 

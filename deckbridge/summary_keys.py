@@ -39,7 +39,7 @@ def _key(name: str, unit: str, meaning: str) -> Key:
 
 # --- identity of the run -----------------------------------------------------------------------------------
 SOURCE = _key("source", "-", "who computed it: 'reference' for the reference solver")
-METHOD = _key("method", "-", "contact method: penalty | lagrange")
+METHOD = _key("method", "-", "contact method: penalty | lagrange | augmented (deckbridge/methods.py)")
 ALGORITHM = _key("algorithm", "-", "contact algorithm of the method (active-set, gauss-seidel, penalty)")
 MODEL = _key("model", "-", "the model's name")
 LOAD_INTRODUCTION = _key("load_introduction", "-", "top coupling: distributing | kinematic")
@@ -68,8 +68,10 @@ MAX_SIGMA_N_PA = _key("max_sigma_n_pa", "Pa", "largest node sigma_n of the whole
 REACTION_FORCE_N = _key("reaction_force_n", "N", "resultant contact + spring reaction on the body at the end "
                         "of step '1' and '2' (x, y, z)")
 REACTION_MOMENT_NM = _key("reaction_moment_nm", "N m", "its moment about the top reference point, per step")
-PENALTY_K = _key("penalty_k", "N/m", "penalty only: k_factor, alpha used, k_open_ratio and the stiffness "
-                 "statistics per surface (min, max, mean, count)")
+PENALTY_K = _key("penalty_k", "N/m", "methods with a penalty (penalty; augmented: its epsilon): k_factor, alpha "
+                 "used, k_open_ratio and the stiffness statistics per surface (min, max, mean, count)")
+AUGMENTED = _key("augmented", "-", "augmented Lagrangian only: augmentations (total, augmentations_max per "
+                 "increment), final penetration penetration_m and its tolerance penetration_tol_m [m]")
 K_TANGENT = _key("k_tangent", "N/m", "circumferential spring stiffness statistics (min, max, mean, count)")
 FRICTION = _key("friction", "-", "friction only: the Coulomb check of the solution (stick / slip counts, "
                 "largest |tau| / (mu |sigma_n|))")

@@ -8,7 +8,8 @@ algebra on the retained dofs, not a new factorisation.
 ``follow_springs(system, method, k_factor)`` gives the system whose springs honour
 ``contact.penalty.k_tangent``: when k_t follows k_n (``null``/``follow``: problem.kt_follows_k), a
 penalty solve at k-factor f uses k_t = f x k_c of each node (the paper's eq. 3 with the same alpha);
-a fixed k_t [N/m] and every Lagrange solve keep the springs as built. At f = 1 the system is returned
+a fixed k_t [N/m] and every exact solve (Lagrange, augmented: ``deckbridge.methods``) keep the springs
+as built. A system already bound to a factor is returned as it is for that factor (no second solve). At f = 1 the system is returned
 unchanged (same object), so default results do not move.
 
 ``follow_springs(..., limit=True)`` gives the limit f -> infinity of those penalty systems for a Lagrange
@@ -30,6 +31,7 @@ import scipy.linalg as sla
 
 import reference_solver as rs
 
+from .methods import METHODS
 
 RIGID = 1.0e12       # rigid springs: k_t / max diag of the condensed contact block [-]
 
@@ -39,7 +41,7 @@ def spring_scale(problem: rs.Problem, method: str, k_factor: float, limit: bool 
     Lagrange ``limit`` of such penalty cases (rigid springs), else 1."""
     if not (problem.kt_follows_k and problem.n_springs):
         return 1.0
-    if method == "penalty":
+    if METHODS[method].springs_follow_k:
         return float(k_factor)
     return math.inf if limit else 1.0
 
@@ -88,6 +90,8 @@ def follow_springs(system: rs.CondensedSystem, method: str, k_factor: float,
     s = spring_scale(base, method, k_factor, limit)
     if s == 1.0 and base is system.problem:
         return system
+    if system.info.get("spring_base") is base and system.info.get("spring_factor") == s:
+        return system                     # already bound to this factor: no second dense solve
     if math.isinf(s) and system.info.get("spring_limit"):
         return system
     if math.isinf(s):                     # rigid: one stiffness far above the body's, at every spring
@@ -97,5 +101,6 @@ def follow_springs(system: rs.CondensedSystem, method: str, k_factor: float,
     else:
         out = rebind(system, base, s)
     out.info["spring_base"] = base
+    out.info["spring_factor"] = s
     out.info["spring_limit"] = bool(limit and math.isinf(s))
     return out

@@ -1,12 +1,13 @@
-"""Base-wall sigma_zz per state and the whole-section onset of a reference solve; ccx's from *EL PRINT.
+"""Base-wall sigma_zz per state and the whole-section onset of a reference solve.
 
 Wall table columns (one row per state and azimuth): step, increment, load_factor, theta_deg,
 szz_inner_pa, szz_outer_pa, szz_mean_pa, szz_bending_pa [Pa], tension > 0 (the definitions of
 :mod:`deckbridge.quantities`), and ``area_m2`` [m^2] the base area of the azimuth (every bottom-row face,
 on a pad or not: :func:`deckbridge.mesh_data.base_wall_areas`; absent from older tables). Reference: :func:`deckbridge.base_wall.reference_base_wall` on the
 bottom element row (Gauss points -> corners, averaged over the row's elements sharing a node);
-CalculiX: ``*EL PRINT`` S of the bottom row (:mod:`deckbridge.readers.ccx_el_stress`), used when the
-deck wrote it (never the ``.frd`` nodal stresses).
+CalculiX: ``*EL PRINT`` S of the bottom row (:func:`deckbridge.dialects.calculix.el_stress.ccx_wall`, the
+dialect record's ``wall_reader``), used when the deck wrote it (never the ``.frd`` nodal stresses). Read back
+from a folder by :func:`deckbridge.readers.reference.read_wall`.
 """
 
 from __future__ import annotations
@@ -18,15 +19,13 @@ import pandas as pd
 
 import reference_solver as rs
 from reference_solver.recover import path_fields
-from reference_solver.section_onset import section_onset
+from reference_solver.path import section_onset
 
 from .azimuth import snap_deg
 from .base_wall import reference_base_wall
-from .errors import DeckbridgeError
 from .mesh_data import base_wall_areas
 from .numbering.skirt import bottom_row_index
 from .outdir import write_text
-from .readers._files import beside
 
 WALL_CSV = "wall_stress.csv"
 WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa", "szz_outer_pa",
@@ -49,33 +48,9 @@ def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.Dat
     return pd.concat(frames, ignore_index=True)[WALL_COLUMNS + [AREA]]
 
 
-def ccx_wall(dat: Path, model, mesh=None) -> pd.DataFrame | None:
-    """Wall table of a ccx job from its ``.dat`` *EL PRINT S blocks (SI, whatever the deck's units: read by
-    :func:`deckbridge.readers.ccx_el_stress.read_base_wall`); None when the deck printed none."""
-    from .readers.ccx_el_stress import read_base_wall
-    try:
-        t = read_base_wall(dat, model, mesh=mesh)
-    except DeckbridgeError as exc:
-        if "no '*EL PRINT" in str(exc) or "cannot read" in str(exc):
-            return None
-        raise
-    inc = pd.Series(t["time"]).groupby(t["step"].to_numpy()).rank(method="dense").to_numpy(np.int64)
-    t = t.assign(increment=inc, theta_deg=snap_deg(t["theta_deg"]))
-    return t[WALL_COLUMNS + [c for c in (AREA,) if c in t]]
-
-
 def write_wall(folder: Path, table: pd.DataFrame) -> Path:
     """Write ``folder``/wall_stress.csv atomically (:func:`deckbridge.outdir.write_text`: mode from the umask)."""
     return write_text(Path(folder) / WALL_CSV, table.to_csv(index=False))
-
-
-def read_wall(folder) -> pd.DataFrame | None:
-    """wall_stress.csv of a reference folder, None when absent."""
-    p = beside(folder, WALL_CSV)
-    if p is None:
-        return None
-    df = pd.read_csv(p)
-    return df if set(WALL_COLUMNS) <= set(df.columns) else None
 
 
 def azimuth_groups(system: rs.CondensedSystem, mesh, surface: str = "table") -> tuple[list[np.ndarray], np.ndarray]:
@@ -91,15 +66,3 @@ def reference_section_onset(system: rs.CondensedSystem, mesh, sol: rs.Solution) 
     groups, keys = azimuth_groups(system, mesh)
     lam, g = section_onset(system, sol, groups, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0})
     return lam, (None if g is None else float(keys[g]))
-
-
-def with_ccx_wall(table: pd.DataFrame, path, model):
-    """A :class:`~deckbridge.results.SourceResult` of a ccx result ``path`` (file of one job) with its
-    base-wall table when the job's ``.dat`` holds *EL PRINT S and the model is known; else the table."""
-    from .results import SourceResult
-    p = Path(str(path))
-    dat = p.with_suffix(".dat")
-    if model is None or p.is_dir() or not dat.is_file():
-        return table
-    wall = ccx_wall(dat, model)
-    return table if wall is None else SourceResult(table, str(path), wall=wall)

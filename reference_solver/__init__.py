@@ -22,17 +22,21 @@ API
     blocks), rotates contact and spring nodes into local frames, applies the coupling (distributing:
     on the node blocks, trailing.py), factors once and builds the dense
     condensed operator on the contact dofs and the condensed loads of every basic load case. The
-    result does not depend on the method or on the penalty stiffness: re-use it for k sweeps.
+    result does not depend on the method or on the penalty stiffness: re-use it for k sweeps. With
+    ``tangential='friction'`` a ``FrictionSystem`` (tangential dofs retained too; system.py).
     ``factorize(K) -> solve(B)`` is injectable (:func:`cholmod_factorize` default, :func:`splu_factorize`).
-``solve_path(system, method='penalty'|'lagrange', k_factor=1.0, base={'N': 1}, ramp={'T': 1, 'M': 1},
-             lambda_max=1.0, increments=10, algorithm=None, liftoff_surface='table', ...) -> Solution``
-    Step 1 applies ``base``; step 2 ``base + lambda * ramp`` for lambda = j lambda_max / increments,
-    j = 0..increments. Penalty: bilinear gap springs (k_factor * contact_k closed, k_open_ratio times
-    that open; Newton on the states). Lagrange: exact primal-dual active set (default) or the paper's
-    projected Gauss-Seidel (``algorithm='gauss-seidel'``, slow past liftoff). The liftoff onset (first
-    ``liftoff_surface`` row that opens) is bracketed by the increments and located exactly by following
-    the piecewise-linear path (bisection as fallback, ``onset='bisection'`` to force it). The fields at
-    the end of both steps are recovered with one solve into ``Solution.fields``.
+``solve_path(system, method='penalty'|'lagrange'|'augmented', k_factor=1.0, base={'N': 1}, ramp={'T': 1, 'M': 1},
+             lambda_max=1.0, increments=10, targets=None, algorithm=None, liftoff_surface=None, ...) -> Solution``
+    The one load-path driver (path.py): step 1 applies ``base``; step 2 ``base + lambda * ramp`` through
+    ``targets`` (default [lambda_max]), ``increments`` per leg, each increment one call of the contact law
+    ``METHODS`` names (laws.py: ``LAWS``, ``make_law``, ``register``). Penalty: bilinear gap springs
+    (k_factor * contact_k closed, k_open_ratio times that open). Lagrange: exact primal-dual active set
+    (default) or the paper's projected Gauss-Seidel (``algorithm='gauss-seidel'``). Augmented: the
+    augmented Lagrangian with epsilon = k_factor * contact_k (augmented.py), the Lagrange answer at any
+    epsilon. The liftoff onset (first ``liftoff_surface`` row that opens; None: any row) is bracketed by
+    the increments and located exactly by following the piecewise-linear path, else bisected (onset.py,
+    which also holds the whole-section onset ``section_onset``). The fields at the end of both steps are
+    recovered with one solve into ``Solution.fields``.
 ``Solution``
     Per increment (rows) and contact row (columns): ``u``, ``gap`` [m] (> 0 open), ``force`` [N]
     (> 0 compressive), ``sigma_n`` [Pa] (< 0 compression), ``closed``; per spring ``spring_u``,
@@ -41,7 +45,8 @@ API
     Building blocks, also used by the tests.
 ``Problem(..., tangential='friction', friction=mu, contact_kt=...)``: Coulomb friction instead of springs;
     ``condense`` then returns a ``FrictionSystem`` (normal and tangential dofs retained) and ``solve_path``
-    follows the path-dependent stick/slip (penalty return mapping, or exact augmented-Lagrangian), with
+    follows the path-dependent stick/slip with the friction law (friction_law.py: penalty return mapping,
+    exact semi-smooth Newton, or augmented-Lagrangian multiplier updates), with
     ``targets=[...]`` (load factors visited in order) and ``on_gross_slip='raise'|'stop'``. ``GrossSlip``
     (a ``ReferenceSolverError``): the load slides the body.
 ``estimate_peak_bytes(n_nodes, n_hex, n_contact, n_spring, factor_entries)``, ``factor_entries(hexes, n_nodes)``
@@ -55,26 +60,31 @@ API
 """
 
 from .assembly import assemble_stiffness
-from .condense import CondensedSystem, check_mechanism, condense
+from .condense import CondensedSystem, check_mechanism
 from .contact import lcp_active_set, lcp_pgs, penalty_solve
 from .elements import ELEMENT_TYPES, element_type, hex8_stiffness
 from .errors import ReferenceSolverError
 from .estimate import estimate_peak_bytes, factor_entries
 from .fields import element_stress, element_von_mises
 from .friction import FrictionSystem, GrossSlip, condense_friction
-from .friction import condense_problem as condense  # dispatches on Problem.tangential
+from .laws import LAWS, ContactLaw, make_law, register
+from . import augmented  # noqa: F401  (registers the 'augmented' law)
 from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_factorize
 from .loads import distributing_forces
-from .path import Solution, solve_path
+from .path import Increment, Solution, section_onset, solve_path
 from .problem import ElementBlock, Problem
+from .system import condense
 from .threads import blas_info, blas_threads, default_threads
+
+METHODS = tuple(LAWS)      # the contact methods, in registry order: penalty, lagrange, augmented
 
 __all__ = [
     "Problem", "CondensedSystem", "Solution", "ReferenceSolverError", "condense", "solve_path",
     "check_mechanism", "assemble_stiffness", "hex8_stiffness", "distributing_forces",
     "element_stress", "element_von_mises", "penalty_solve", "lcp_active_set", "lcp_pgs",
     "cholmod_factorize", "splu_factorize", "default_factorize", "HAVE_CHOLMOD",
-    "FrictionSystem", "GrossSlip", "condense_friction",
+    "FrictionSystem", "GrossSlip", "condense_friction", "METHODS", "LAWS", "ContactLaw", "make_law", "register",
+    "Increment", "section_onset",
     "blas_info", "blas_threads", "default_threads", "estimate_peak_bytes", "factor_entries",
     "ELEMENT_TYPES", "ElementBlock", "element_type",
 ]

@@ -16,7 +16,7 @@ from typing import Mapping
 import numpy as np
 import scipy.linalg as sla
 
-from .assembly import assemble_blocks, assemble_stiffness
+from .assembly import assemble_problem_blocks
 from .errors import ReferenceSolverError
 from .frames import DofMap, build_dofmap
 from .linalg import (HAVE_CHOLMOD, Factorize, Schur, cholesky_dense, default_factorize, schur_rhs,
@@ -98,7 +98,7 @@ def load_vectors(p: Problem, dm: DofMap, names: tuple[str, ...]) -> np.ndarray:
 def _reduced_stiffness(p: Problem, dm: DofMap, times: dict) -> list:
     """[T^T K T] in a list, so that the caller can hand over its only reference."""
     t = time.perf_counter()
-    K = assemble_stiffness(p.nodes, p.hexes, p.E, p.nu, p.element)
+    K = assemble_problem_blocks(p).tocsr()
     times["assembly_s"] = time.perf_counter() - t
     return [(dm.T.T @ K @ dm.T).tocsr()]
 
@@ -106,7 +106,7 @@ def _reduced_stiffness(p: Problem, dm: DofMap, times: dict) -> list:
 def _reduced_blocks(p: Problem, dm: DofMap, times: dict) -> list:
     """[T^T K T] as node blocks (distributing coupling: T is one 3x3 frame per node)."""
     t = time.perf_counter()
-    K = assemble_blocks(p.nodes, p.hexes, p.E, p.nu, p.element)
+    K = assemble_problem_blocks(p)
     times["assembly_s"] = time.perf_counter() - t
     framed = np.unique(np.concatenate([p.contact_nodes, p.spring_nodes]))
     rr = (3 * framed[:, None, None] + np.arange(3)[None, :, None]).repeat(3, axis=2)

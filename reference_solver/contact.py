@@ -13,10 +13,8 @@ Gaps g = c0 + u (c0: clearance, g > 0 open). Two methods:
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
 
 from .errors import ReferenceSolverError
-from .linalg import cholesky_dense
 from .shifted import ShiftedSolver, SubsetSolver
 
 
@@ -109,18 +107,22 @@ def lcp_active_set(S: np.ndarray, q: np.ndarray, g0: np.ndarray | None = None,
                 return g, it
             break
         closed = new_closed
-    g, extra = lcp_primal_active_set(S, q, None if g0 is None else np.maximum(g0, 0.0), max_gap)
+    g, extra = lcp_primal_active_set(S, q, None if g0 is None else np.maximum(g0, 0.0), max_gap, solver=solver)
     return g, maxit + extra
 
 
 def lcp_primal_active_set(S: np.ndarray, q: np.ndarray, g0: np.ndarray | None = None,
-                          max_gap: float = np.inf, maxit: int | None = None) -> tuple[np.ndarray, int]:
+                          max_gap: float = np.inf, maxit: int | None = None,
+                          solver: SubsetSolver | None = None) -> tuple[np.ndarray, int]:
     """Exact solution of the LCP by a primal active-set method (finite; Lawson-Hanson style).
 
     Minimises 1/2 g'Sg + q'g over g >= 0: the free set holds the open nodes; the node with the most
     negative reaction opens, and steps are cut back to keep g >= 0. Raises :class:`Unbounded` when
-    the free set has no stiffness (the load lifts or tips the body off its supports).
+    the free set has no stiffness (the load lifts or tips the body off its supports). The solves with
+    S_FF go through ``solver`` (shifted.SubsetSolver: bordered updates of one factor, not a dense
+    Cholesky per free set; pass the path's to share it).
     """
+    solver = SubsetSolver(S) if solver is None else solver
     n = q.size
     maxit = maxit or 10 * n + 50
     g = np.zeros(n) if g0 is None else np.maximum(np.asarray(g0, float), 0.0)
@@ -132,10 +134,10 @@ def lcp_primal_active_set(S: np.ndarray, q: np.ndarray, g0: np.ndarray | None = 
             F = np.flatnonzero(free)
             z = np.zeros(n)
             if F.size:
-                cf = cholesky_dense(S[np.ix_(F, F)])
-                if cf is None:
+                zF = solver.solve(F, -q[F])
+                if zF is None:
                     raise Unbounded("the open contacts have no stiffness")
-                z[F] = sla.cho_solve(cf, -q[F], check_finite=False)
+                z[F] = zF
                 if not np.all(np.isfinite(z)) or np.abs(z).max() > max_gap:
                     raise Unbounded("the gaps grow without bound")
             neg = F[z[F] <= 0]

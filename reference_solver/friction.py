@@ -62,10 +62,10 @@ AL_RHO = (1.0, 1.0e-2)    # the augmented Lagrangian's rho, times the path's (RH
                           # Newton in the kinks of the stiff one (docs/friction.md, section 5)
 AL_SAFE = 100.0           # the safe Newton model of the Lagrange inner solve uses rho / AL_SAFE along the slip
 PREDICTOR_TOL = 1.0e-6    # relative settling of the Lagrange predictor's slip thresholds (a predictor only)
-LAGRANGE_SSN = True       # Lagrange: semi-smooth Newton (friction_ssn) instead of the augmented Lagrangian
+RHO_FACTOR = 100.0        # the Lagrange fallback's augmented-Lagrangian rho = RHO_FACTOR * diag(S) on the normal dofs [N/m]
 REGULARISER = 1.0e-6      # spring on the added tangential dofs during condensation, times E * L [N/m]
 CORNER_RULES = ("stop", "both")
-CORNER_RULE = {"penalty": "both", "lagrange": "stop"}   # the corner rule of each method (module docstring)
+CORNER_RULE = {"penalty": "both", "lagrange": "stop", "augmented": "stop"}   # each method's corner rule (above)
 
 
 @dataclass
@@ -245,21 +245,17 @@ def condense_friction(p: Problem, **kw) -> FrictionSystem:
                           info={**base.info, "retained": int(S.shape[0])})
 
 
-def condense_problem(p: Problem, **kw):
-    """:func:`condense_friction` for ``tangential='friction'``, else :func:`reference_solver.condense.condense`."""
-    return condense_friction(p, **kw) if p.tangential == "friction" else condense(p, **kw)
-
-
 def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: State, k: np.ndarray,
                     k_open: np.ndarray, kt: np.ndarray, mu: float, max_disp: float,
                     rho: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 200,
                     rho_steps: int = 1, rho_growth: float = 10.0, quick: bool = False,
                     guess: np.ndarray | None = None) -> State:
-    """One load increment from the converged state ``prev`` to the load ``f`` (penalty or Lagrange).
+    """One load increment from the converged state ``prev`` to the load ``f`` (penalty, Lagrange or augmented).
 
     Penalty: fixed point on the slip thresholds mu p around the Tresca Newton solve. Lagrange: the
-    semi-smooth Newton (``quick``: its direct attempts only, NotConverged else), then the augmented-
-    Lagrangian multiplier updates (p, t and the thresholds) around the same solve.
+    semi-smooth Newton (``quick``: its direct attempts only, NotConverged else), then, as the last
+    resort, the augmented-Lagrangian multiplier updates with rho = ``rho`` x AL_RHO in turn. Augmented:
+    those updates with rho = ``rho`` (the law's epsilon) alone.
     """
     s_ref = prev.x[sysf.tdofs]
     nf, fr = sysf.rows.size, sysf.rows
@@ -279,28 +275,30 @@ def solve_increment(sysf: FrictionSystem, method: str, f: np.ndarray, prev: Stat
                 return st
             cap = new
         raise NotConverged(f"penalty friction: the slip thresholds did not settle in {maxit} updates")
-    if LAGRANGE_SSN:
-        try:
-            return solve_lagrange_increment(sysf, f, prev, mu, max_disp, guess=guess, predictor=None if quick else (
-                lambda kp, ktp: solve_increment(sysf.with_corner("both"), "penalty", f, prev, kp, 1e-12 * kp, ktp,
-                                                mu, max_disp, tol=PREDICTOR_TOL)))
-        except NotConverged as exc:
-            if quick:
-                raise                                  # the caller cuts the increment back first
-            runaway = isinstance(exc, Runaway)         # the augmented Lagrangian below, the last resort
-    else:
-        runaway = False
+    if method == "augmented":
+        return augmented_increment(sysf, f, prev, mu, max_disp, rho, tol, maxit, rho_steps, rho_growth, False)
+    try:
+        return solve_lagrange_increment(sysf, f, prev, mu, max_disp, guess=guess, predictor=None if quick else (
+            lambda kp, ktp: solve_increment(sysf.with_corner("both"), "penalty", f, prev, kp, 1e-12 * kp, ktp,
+                                            mu, max_disp, tol=PREDICTOR_TOL)))
+    except NotConverged as exc:
+        if quick:
+            raise                                  # the caller cuts the increment back first
+        runaway = isinstance(exc, Runaway)         # the augmented Lagrangian below, the last resort
     first = None
     for scale in AL_RHO:                               # the last resort, its rho from stiff to soft
         try:
-            return _augmented(sysf, f, prev, mu, max_disp, scale * rho, tol, maxit, rho_steps, rho_growth, runaway)
+            return augmented_increment(sysf, f, prev, mu, max_disp, scale * rho, tol, maxit, rho_steps, rho_growth,
+                                       runaway)
         except (NotConverged, Unbounded) as exc:       # GrossSlip: the load slides the body, said at once
             first = first or exc
     raise first
 
 
-def _augmented(sysf, f, prev, mu, max_disp, rho, tol, maxit, rho_steps, rho_growth, runaway):
-    """The augmented-Lagrangian multiplier updates of :func:`solve_increment` with the penalty ``rho`` [N/m]."""
+def augmented_increment(sysf, f, prev, mu, max_disp, rho, tol, maxit, rho_steps, rho_growth, runaway):
+    """The augmented-Lagrangian multiplier updates (p, t and the slip thresholds, Anderson-accelerated), each
+    inner problem the penalty law at ``rho`` [N/m] with the multipliers as pre-loads; the augmented
+    friction law and the Lagrange law's last resort. Counts its updates in ``State.augmentations``."""
     s_ref = prev.x[sysf.tdofs]
     nf, fr = sysf.rows.size, sysf.rows
     x, its = prev.x, 0
@@ -342,4 +340,5 @@ def _augmented(sysf, f, prev, mu, max_disp, rho, tol, maxit, rho_steps, rho_grow
     ds = np.linalg.norm(np.where(sysf.tmask, x[sysf.tdofs] - s_ref, 0.0), axis=1)
     on_cone = np.linalg.norm(st.t, axis=1) >= (1 - 1e-8) * mu * p[fr]        # |t| = mu p and moving
     slip = st.active[fr] & (p[fr] > 0) & on_cone & (ds > 1e-9 * (np.abs(x).max() + 1e-300))
-    return State(x=x, p=p, t=st.t, active=st.active, slip=slip, iterations=its)
+    pen = float(np.maximum(-(sysf.problem.contact_clearance + x[:p.size]), 0.0).max(initial=0.0))
+    return State(x=x, p=p, t=st.t, active=st.active, slip=slip, iterations=its, augmentations=outer, penetration=pen)

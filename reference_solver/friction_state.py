@@ -1,4 +1,4 @@
-"""The converged (or trial) state of a friction increment and the friction solver's errors."""
+"""The converged (or trial) state of an increment (every contact law) and the laws' errors."""
 
 from __future__ import annotations
 
@@ -31,3 +31,5 @@ class State:
     active: np.ndarray            # (nc,) closed rows
     slip: np.ndarray              # (nf,) slipping friction rows (closed and on the cone)
     iterations: int = 0
+    augmentations: int = 0        # augmented Lagrangian: multiplier updates of the increment
+    penetration: float = 0.0      # augmented Lagrangian: largest penetration max(0, -g) at the end [m]

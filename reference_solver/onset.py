@@ -1,17 +1,29 @@
-"""Exact liftoff onset inside a load-factor bracket by following the piecewise-linear path.
+"""Every onset the solver locates, in one module.
 
-Between contact-state changes both methods are linear in lambda (fixed states), so the path from
-the solution at ``lo`` can be followed event by event: the first row that changes state is found
-in closed form, its state is flipped and the next piece follows. The onset is the first event that
-opens a watched row. Returns None when an event cannot be found in the bracket (the caller then
-bisects).
+- ``track_penalty`` / ``track_lagrange``: exact onset inside a load-factor bracket by following the
+  piecewise-linear path. Between contact-state changes a path-independent law is linear in lambda (fixed
+  states), so the path from the solution at ``lo`` is followed event by event: the first row that changes
+  state is found in closed form, its state flipped and the next piece followed. The onset is the first
+  event that opens a watched row; None when none is found in the bracket (the caller bisects).
+- :func:`first_opening`: the first-node onset of a law along a bracket (the law's exact ``track``,
+  checked by two full solves just below and above it; else bisection on lambda, by sub-increments from the
+  last converged state for a path-dependent law).
+- :func:`reach`: sub-steps to a load factor, bisecting the onset of a failure that ends the path (gross
+  slip, an increment that does not converge).
+- :func:`section_onset`: the first load factor at which every row of one group is open (a whole section).
+Rows are open when their gap is > 0 and they are not closed.
 """
 
 from __future__ import annotations
 
+from typing import Callable
+
 import numpy as np
 
+from .friction_state import GrossSlip, NotConverged, Runaway, State
 from .shifted import ShiftedSolver, SubsetSolver
+
+SLIDE_TOL = 1.0e-4        # bisection tolerance of failure onsets (gross slip), relative to the largest load factor
 
 
 def _first(t: np.ndarray) -> int:
@@ -79,3 +91,147 @@ def track_lagrange(S, fr, lo, hi, g_lo, w_lo, closed_lo, watch, max_events=None,
         else:
             A[i], g[i] = True, 0.0
     return None
+
+
+def is_open(st: State, c0: np.ndarray, watch: np.ndarray) -> bool:
+    """Whether a watched row of ``st`` is open (gap > 0 and not closed)."""
+    return bool(np.any(watch & (c0 + st.x[:c0.size] > 0) & ~st.active))
+
+
+def widest_open(st: State, c0: np.ndarray, watch: np.ndarray) -> int:
+    """The watched open row with the largest gap (the onset row of a bisected onset)."""
+    cand = np.flatnonzero(watch & ~st.active)
+    return int(cand[np.argmax((c0 + st.x[:c0.size])[cand])])
+
+
+def first_opening(law, run: Callable, lo: tuple, hi: tuple, back: tuple | None, co: Callable,
+                  dcoeffs: np.ndarray, watch: np.ndarray, *, tol: float, scale: float,
+                  exact: bool = True) -> tuple[float, int, str]:
+    """(lambda, row, how) of the first opening of a ``watch`` row between the converged increments
+    ``lo`` = (lambda, state), closed, and ``hi``, open. ``run(state, lam, guess)`` solves the state at
+    ``lam`` from ``state``; ``back`` the increment before ``lo`` (its secant guides the guesses of a
+    path-dependent law); ``co(lam)`` the load coefficients at ``lam``, ``dcoeffs`` their rate. ``tol`` on
+    lambda relative to ``scale``; ``exact``: try ``law.track`` first (checked by ``law.onset_check(state,
+    coeffs)`` where the law has one, else by ``run``)."""
+    c0 = law.problem.contact_clearance
+    (a, a_st), (b, b_st) = lo, hi
+    if exact and not law.stateful:
+        check = getattr(law, "onset_check", None)            # a law whose states are the exact ones only to a
+        ev = law.track(a_st if check is None else check(a_st, co(a)), a, b, dcoeffs, watch)   # tolerance: tracks
+        delta = min(1e-7, 0.1 * tol) * scale                  # and checks on the exact problem it solves
+        if ev is not None and a < ev[0] - delta and ev[0] + delta < b:
+            if check is not None:
+                below, above = check(a_st, co(ev[0] - delta)), check(a_st, co(ev[0] + delta))
+            else:
+                below, above = run(a_st, ev[0] - delta, None), run(a_st, ev[0] + delta, None)
+            if not is_open(below, c0, watch) and is_open(above, c0, watch):
+                return float(ev[0]), int(ev[1]), "path-following"
+    while abs(b - a) > max(tol, law.onset_floor) * scale:
+        mid = 0.5 * (a + b)
+        if back is not None:                                  # along the closed branch: its last two states
+            guess = a_st.x + (mid - a) / (a - back[0]) * (a_st.x - back[1].x)
+        else:
+            guess = a_st.x + (mid - a) / (b - a) * (b_st.x - a_st.x)
+        mst = run(a_st, mid, guess)
+        if is_open(mst, c0, watch):
+            b, b_st = mid, mst
+        else:
+            back = (a, a_st)
+            a, a_st = mid, mst
+    return b, widest_open(b_st, c0, watch), "bisection"
+
+
+def reach(run: Callable, a_st: State, a: float, lam: float, guess, scale: float, tips: Callable):
+    """Sub-steps from (a_st, a) to ``lam``: (state at lam, None), or (last state, onset of the failure)
+    when an increment slides the body (GrossSlip) or does not converge; the onset bisected to SLIDE_TOL x
+    ``scale``. ``run(state, lam, lam_prev, guess)``; ``tips(lam)`` the error of a runaway (tipping)."""
+    b, why = lam, None
+    for _ in range(8):
+        try:
+            return run(a_st, lam, a, guess), None
+        except (GrossSlip, NotConverged) as exc:
+            b, why = lam, exc
+        while abs(b - a) > SLIDE_TOL * scale:                 # bisect, sub-steps from a
+            mid = 0.5 * (a + b)
+            try:
+                a_st, a = run(a_st, mid, a, None), mid
+            except (GrossSlip, NotConverged) as exc:
+                b, why = mid, exc
+        try:
+            a_st, a = run(a_st, b, a, None), b                # the last small step
+        except (GrossSlip, NotConverged) as exc:
+            why = exc
+            break
+    if isinstance(why, Runaway):
+        raise tips(b) from None                               # no bounded equilibrium past a: tipping over
+    if isinstance(why, NotConverged):
+        raise NotConverged(f"step 2, load factor {b:.6g}: the iterations do not converge "
+                           f"({why}); the last converged load factor is {a:.6g}") from None
+    return a_st, b
+
+
+def group_open(gap: np.ndarray, closed: np.ndarray, groups: list[np.ndarray]) -> np.ndarray:
+    """(n_groups,) True where every row of the group is open (gap > 0 and not closed)."""
+    opened = (np.asarray(gap) > 0) & ~np.asarray(closed, bool)
+    return np.array([bool(opened[g].all()) for g in groups])
+
+
+def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[float], tuple],
+                  tol: float = 1e-9) -> tuple[float | None, int | None]:
+    """(lambda, group index) of the first load factor of step 2 at which a whole group is open, or
+    (None, None) when none opens along ``sol``. ``groups``: row indices (into the contact rows) of each
+    group; ``sol`` the solved path; ``state_at(lam)`` the (gap, force, closed) rows of the state at ``lam``
+    (the driver's one-increment path: :func:`reference_solver.path.section_onset`).
+
+    The onset is the first root of phi(lambda) = max over groups of (min over the group's rows of m_i),
+    m_i = gap_i - force_i / S_ii (a closed exact row has gap 0 and force > 0; a penalty row's gap is
+    negative while closed), continuous and piecewise linear in lambda: Illinois regula falsi, exact once
+    the bracket lies in one linear piece, bisection steps as fallback, to ``tol`` on lambda or |phi| <
+    1e-12 of its scale."""
+    rows2 = np.flatnonzero(sol.step == 2)
+    hit = [j for j in rows2 if group_open(sol.gap[j], sol.closed[j], groups).any()]
+    if not hit:
+        return None, None
+    j = hit[0]
+    hi = float(sol.load_factor[j])
+    before = [i for i in rows2 if i < j]
+    if not before:
+        return hi, int(np.flatnonzero(group_open(sol.gap[j], sol.closed[j], groups))[0])
+    lo = float(sol.load_factor[before[-1]])
+    diag = np.diag(system.Sc if hasattr(system, "Sc") else system.S)[:system.n_contacts].copy()
+
+    def measure(gap, force, closed):
+        m = np.where(closed, gap - force / diag, gap)
+        return np.array([m[g].min() for g in groups])
+
+    def state(lam: float):
+        gap, force, closed = state_at(lam)
+        return measure(gap, force, closed), group_open(gap, closed, groups)
+
+    i_lo = before[-1]
+    f_lo = float(measure(sol.gap[i_lo], sol.force[i_lo], sol.closed[i_lo]).max())
+    m_hi = measure(sol.gap[j], sol.force[j], sol.closed[j])
+    f_hi, up_hi = float(m_hi.max()), group_open(sol.gap[j], sol.closed[j], groups)
+    scale = max(abs(f_lo), abs(f_hi), 1e-300)
+    side = 0
+    for _ in range(200):
+        if hi - lo <= tol:
+            break
+        x = lo - f_lo * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+        if not (lo < x < hi):
+            x = 0.5 * (lo + hi)
+        m, up = state(x)
+        fx = float(m.max())
+        if up.any() or fx > 0:
+            hi, f_hi, up_hi = x, fx, up if up.any() else up_hi
+            if side == 1:
+                f_lo *= 0.5                  # Illinois: the stale end's value halves
+            side = 1
+        else:
+            lo, f_lo = x, fx
+            if side == -1:
+                f_hi *= 0.5
+            side = -1
+        if abs(fx) <= 1e-12 * scale:
+            return x, int(np.argmax(m))          # the root itself (phi linear around it)
+    return hi, int(np.flatnonzero(up_hi)[0]) if up_hi.any() else int(np.argmax(m_hi))

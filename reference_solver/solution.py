@@ -64,6 +64,10 @@ class Solution:
     dissipation: np.ndarray | None = None         # (ni,) friction work dissipated in the increment [J], >= 0
     gross_slip_load_factor: float | None = None   # onset of gross slip (the load slides the body)
     retained_u: np.ndarray | None = None          # (ni, nr) retained displacements [m]
+    # with method = 'augmented' (None otherwise):
+    augmentations: np.ndarray | None = None       # (ni,) multiplier updates of each increment
+    penetration: np.ndarray | None = None         # (ni,) largest penetration max(0, -gap) at its end [m]
+    penetration_tol: float | None = None          # the penetration tolerance it stopped at [m]
 
     def friction_check(self, problem, mu: float) -> dict:
         """Compare each spring (tangential) force with mu times the normal force at its node.

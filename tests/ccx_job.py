@@ -1,4 +1,4 @@
-"""Test helper: one of the project's CalculiX decks of a model (penalty or mortar), run by ccx."""
+"""Test helper: one of the project's CalculiX decks of a model (penalty, lagrange (mortar) or f2f), run by ccx."""
 
 import shutil
 from pathlib import Path
@@ -8,14 +8,14 @@ from deckbridge.render import render_all
 
 
 def ccx_job(model, folder: Path, deck: str = "penalty") -> Path:
-    """Render ``model``'s CalculiX decks into ``folder``/decks, copy its ``deck`` (``penalty`` or ``lagrange``:
+    """Render ``model``'s CalculiX decks into ``folder``/decks, copy its ``deck`` (``penalty``, ``lagrange``, ``f2f``:
     ``<name>_ccx_<deck>.inp``) into ``folder``/ccx (a folder of that job's results only) and run ccx there;
     returns the job's ``.inp`` (``.frd``, ``.dat`` beside it)."""
     render_all(model, folder / "decks", names=["calculix"])
     inp = folder / "ccx" / f"{model.name}_ccx_{deck}.inp"
     inp.parent.mkdir(parents=True)
     shutil.copyfile(folder / "decks" / inp.name, inp)
-    DIALECTS["calculix"].run_module().run(inp, timeout_s=300)
+    DIALECTS["calculix"].run(inp, timeout_s=300)
     return inp
 
 

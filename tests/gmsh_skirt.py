@@ -152,29 +152,33 @@ def gmsh_written(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=24, n_z=6, n_r=1, s
 
 
 def gmsh_files(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=16, n_z=4, n_r=1, top_radius=None,
-               unit="m") -> dict:
+               unit="m", order: int = 1) -> dict:
     """The skirt as *Gmsh itself writes it*: ``skirt.msh`` (4.1), ``skirt.inp`` and ``skirt.bdf`` from
     ``gmsh.write`` (skin elements of the physical surfaces BASE and TOP included, Gmsh's numbering, node sets
     ``*NSET`` BASE / TOP in the .inp), plus ``base.txt`` / ``top.txt`` (the sets' node ids, one a line, for the
     .bdf, which carries no sets). Geometry [m] as :func:`gmsh_skirt`, ``top_radius`` the mid-wall radius at
     the top (a cone: the revolved section is a parallelogram), coordinates written in ``unit`` ('m' or
-    'mm'). Returns {'msh', 'inp', 'bdf': path, 'sets': {fmt: the model's mesh.sets value}}."""
+    'mm'). ``order`` 2: second-order elements (``Mesh.ElementOrder`` 2, ``Mesh.SecondOrderIncomplete`` 1: 20-node
+    hexahedra). Returns {'msh', 'inp', 'bdf': path, 'sets': {fmt: the model's mesh.sets value}}."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     args = json.dumps({"files": True, "outdir": str(outdir), "R": R, "t": t, "H": H, "n_theta": n_theta,
-                       "n_z": n_z, "n_r": n_r, "top_radius": top_radius, "unit": unit})
+                       "n_z": n_z, "n_r": n_r, "top_radius": top_radius, "unit": unit, "order": order})
     subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
     sets = {"msh": "{base: BASE, top: TOP}", "inp": "{base: BASE, top: TOP}",
             "bdf": "{base: base.txt, top: top.txt}"}
     return {**{f: outdir / f"skirt.{f}" for f in ("msh", "inp", "bdf")}, "sets": sets}
 
 
-def _files_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, top_radius, unit) -> None:
+def _files_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, top_radius, unit, order=1) -> None:
     """The Gmsh part of :func:`gmsh_files` (child process)."""
     import gmsh
     gmsh.initialize(["-noenv"])
     try:
         groups = _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius, {"m": 1.0, "mm": 1000.0}[unit])
+        if order != 1:
+            gmsh.option.setNumber("Mesh.ElementOrder", order)
+            gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 1)
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.removeDuplicateNodes()
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)

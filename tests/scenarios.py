@@ -21,7 +21,7 @@ import pandas as pd
 from deckbridge.job import run_job
 from deckbridge.model import Model, load
 from deckbridge.readers import read
-from deckbridge.wall_stress import read_wall
+from deckbridge.readers.reference import read_wall
 
 FACTORS = {
     "mesh": ("parametric", "msh", "inp", "bdf"),      # parametric, or a Gmsh-built import as Gmsh writes it

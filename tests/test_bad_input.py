@@ -285,7 +285,7 @@ def test_scheduler_that_is_not_dask_ends_in_one_line_in_time(reply):
         for c in conns:
             c.close()
     assert time.perf_counter() - t0 < 20
-    assert res.returncode == 0 and res.stdout.startswith("--scheduler = 'tcp://127.0.0.1:"), (res.stdout, res.stderr)
+    assert res.returncode == 0 and res.stdout.startswith("`scheduler` = 'tcp://127.0.0.1:"), (res.stdout, res.stderr)
     assert "Traceback" not in res.stderr, res.stderr
 
 
@@ -459,7 +459,7 @@ def ccx_job(tmp_path_factory):
     import shutil
     if shutil.which("ccx") is None:
         pytest.skip("ccx not installed")
-    from deckbridge.external import ccx_run
+    from deckbridge.dialects.calculix import runner as ccx_run
     from deckbridge.render import render_all
     model = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "steps.increments=4"])
     folder = tmp_path_factory.mktemp("ccx13")

@@ -7,8 +7,9 @@ import pytest
 
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.render import abaqus, render_all
-from deckbridge.readers.inp_mesh import read_inp_mesh
+from deckbridge.dialects.abaqus import render as abaqus
+from deckbridge.render import render_all
+from deckbridge.importers.inp_mesh import read_inp_mesh
 
 SMALL = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1"]
 
@@ -175,7 +176,8 @@ def test_nlgeom_inc_and_base_stress_request(tmp_path):
 def test_registered_with_the_calculix_decks(tmp_path):
     model = load(None, SMALL)
     written = render_all(model, tmp_path, ["abaqus", "calculix"])
-    assert sorted(p.name for p in written) == ["JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp"]
+    assert sorted(p.name for p in written) == ["JAR_ccx_f2f.inp", "JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp",
+                                               "JAR_lagrange.inp"]
     assert all(p.is_file() for p in written)
 
 

@@ -13,7 +13,7 @@ from pyNastran.bdf.bdf_interface.utils import to_fields
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.render import render_all
-from deckbridge.render.nastran import write
+from deckbridge.dialects.nastran.render import write
 from deckbridge.numbering.nastran import numbering
 
 N_T, N_Z, N_R, NINC = 24, 6, 1, 7

@@ -11,11 +11,11 @@ from pyNastran.bdf.bdf import BDF
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.render import render_all
-from deckbridge.render.nastran import write
+from deckbridge.dialects.nastran.render import write
 from test_deck_nastran import N_R, N_T, OVERRIDES, _raw_cards, _read, deck  # noqa: F401 (fixture)
 
 def _mystran_deck(overrides, folder):
-    from deckbridge.render.mystran import write as write_mystran
+    from deckbridge.dialects.mystran.render import write as write_mystran
 
     model = load(None, overrides)
     return write_mystran(model, build_mesh(model), folder)[0]
@@ -189,7 +189,7 @@ def test_one_tangential_mechanism(tmp_path):
     """Springs (default): CELAS2 on theta and PGAP KT = 0. Friction: PGAP KT = the node's k_t with
     MU1 = MU2 = mu and no CELAS2; the MYSTRAN deck refuses it in one line."""
     from deckbridge.errors import DeckbridgeError
-    from deckbridge.render.mystran import write as write_mystran
+    from deckbridge.dialects.mystran.render import write as write_mystran
 
     model = _with_tangential("friction")
     mesh = build_mesh(model)

@@ -17,7 +17,7 @@ from deckbridge.dialects import DIALECTS
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.numbering.nastran import numbering
-from deckbridge.readers.nastran_contact import source_faces
+from deckbridge.dialects.nastran_surface.reader import source_faces
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "nx_surface_contact"
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"shared Simcenter surface-contact model absent ({DATA})")

@@ -1,7 +1,7 @@
 """The radial stop is frictionless in every deck (issue 21 item 6) and ``decks`` leaves out a deck that cannot
 carry the model with a note, as ``run`` does (issue 21 item 16).
 
-The decks are read back by their parsers (pyNastran for the .bdf, :func:`deckbridge.readers.inp_mesh.contact_friction`
+The decks are read back by their parsers (pyNastran for the .bdf, :func:`deckbridge.importers.inp_mesh.contact_friction`
 for the .inp) and the stop is told from the table by geometry, not by the renderer's numbering: a table gap's
 axis GA -> GB is vertical, a stop gap's is radial.
 """
@@ -16,8 +16,10 @@ from pyNastran.bdf.bdf import BDF
 from deckbridge.cli import main
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.readers.inp_mesh import contact_friction
-from deckbridge.render import abaqus, calculix, nastran
+from deckbridge.importers.inp_mesh import contact_friction
+from deckbridge.dialects.abaqus import render as abaqus
+from deckbridge.dialects.calculix import render as calculix
+from deckbridge.dialects.nastran import render as nastran
 
 MU = 0.2
 SMALL = ["mesh.n_theta=12", "mesh.n_z=3", "mesh.n_r=1", f"contact.friction={MU}"]
@@ -67,6 +69,8 @@ def test_calculix_stop_frictionless(tmp_path):
     assert {f for _, m, f in pen if m == "MASTER_TABLE"} == {MU}
     # mortar: the table pair only (its stop is not a contact pair)
     assert {(m, f) for _, m, f in contact_friction(paths[1])} == {("MASTER_TABLE", MU)}
+    # face-to-face: the table pair(s) only, its stop is GAPUNI gaps
+    assert {(m, f) for _, m, f in contact_friction(paths[2])} == {("MASTER_TABLE", MU)}
 
 
 def test_decks_leaves_out_mystran_with_friction(tmp_path):
@@ -78,8 +82,8 @@ def test_decks_leaves_out_mystran_with_friction(tmp_path):
     assert res.exit_code == 0, res.output
     assert "note: mystran deck: contact.tangential = friction" in res.output
     names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
-    assert names == ["JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp", "JAR_model.vtu",
-                     "JAR_penalty.bdf"]
+    assert names == ["JAR_ccx_f2f.inp", "JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp",
+                     "JAR_model.vtu", "JAR_penalty.bdf", "JAR_surface.bdf"]
     # naming the dialect that cannot carry the model is a one-line refusal, nothing written
     res = CliRunner().invoke(main, ["decks", "--set", f"contact.friction={MU}", "--set",
                                     "contact.tangential=friction", "--dialect", "mystran", "-o",

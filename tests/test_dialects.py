@@ -1,17 +1,15 @@
-"""The dialect table: each record's renderer, templates, reader, runner and deck names agree with each other."""
+"""The dialect records: each record's renderer, templates, reader, runner and deck names agree with each other,
+and every result format (the dialects' readers and the others) is one :class:`~deckbridge.dialects.Format`."""
 
-import importlib
 from importlib.resources import files
 
 import pytest
 from click.testing import CliRunner
 
 from deckbridge.cli import main
-from deckbridge.dialects import DIALECTS, dialect
+from deckbridge.dialects import DIALECTS, NAMES, OTHER_FORMATS, dialect, formats
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.readers import _load_all, formats
-from deckbridge.readers._registry import READERS
 
 SMALL = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1"]
 
@@ -27,18 +25,24 @@ def test_record_renders_exactly_its_deck_names_from_its_template_folder(name, tm
 
 
 @pytest.mark.parametrize("name", sorted(DIALECTS))
-def test_record_reader_is_a_registered_format_and_runner_has_run(name):
-    _load_all()
+def test_record_lives_in_its_folder_and_its_parts_are_there(name):
+    """One folder per dialect: the record is deckbridge.dialects.<name>.RECORD, its renderer, reader and
+    runner (when it has one) are modules of that folder and hold the functions the record names."""
     d = dialect(name)
-    assert d.reader in READERS and d.reader in formats()
-    assert READERS[d.reader].read.__module__ == f"deckbridge.readers.{d.reader}"
-    if d.runner is not None:
-        assert callable(importlib.import_module(d.runner).run)
+    assert d.name == name and d.package == f"deckbridge.dialects.{name}"
+    assert d.part(d.renderer).__module__ == f"{d.package}.render"
+    f = formats()[d.reader]
+    for fn in ("read", "detect"):
+        assert d.part(f"{f.module}:{fn}").__module__ == f"{d.package}.reader"
+    for ref in (d.runner, d.run_check, d.wall_reader, d.series_writer):
+        if ref is not None:
+            assert callable(d.part(ref)) and d.part(ref).__module__.startswith(d.package + ".")
 
 
-def test_every_registered_reader_is_listed_and_unknown_dialect_is_refused(tmp_path):
-    _load_all()
-    assert sorted(READERS) == formats()
+def test_formats_are_the_dialects_readers_and_the_others(tmp_path):
+    assert set(NAMES) == set(DIALECTS)
+    assert sorted(formats()) == sorted({d.reader for d in DIALECTS.values()} | set(OTHER_FORMATS))
+    assert sorted(formats()) == ["abaqus_dat", "calculix", "mystran_f06", "nastran_contact", "nastran_op2", "plain_csv", "reference"]
     res = CliRunner().invoke(main, ["decks", "-o", str(tmp_path / "d"), "--dialect", "ccx"])
     assert res.exit_code != 0 and "deck dialect 'ccx': unknown (known: abaqus, calculix, mystran, nastran, nastran_surface)" in res.output
     assert not (tmp_path / "d").exists() or not any((tmp_path / "d").iterdir())

@@ -14,7 +14,7 @@ import pytest
 
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.readers.ccx_files import _dat_blocks
+from deckbridge.dialects.calculix.result_files import _dat_blocks
 from deckbridge.solve import condense_model, solve_system
 from deckbridge.tangent_springs import follow_springs
 from reference_solver.friction import State, solve_increment

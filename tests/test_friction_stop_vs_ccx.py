@@ -21,7 +21,7 @@ import pytest
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
-from deckbridge.readers.calculix import n2f_tangential_force
+from deckbridge.dialects.calculix.reader import n2f_tangential_force
 from deckbridge.solve import condense_model, solve_system
 from ccx_job import ccx_penalty_job
 

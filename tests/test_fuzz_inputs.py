@@ -188,7 +188,7 @@ def small():
 def ccx_job(small, tmp_path_factory):
     if shutil.which("ccx") is None:
         pytest.skip("ccx not installed")
-    from deckbridge.external import ccx_run
+    from deckbridge.dialects.calculix import runner as ccx_run
     from deckbridge.render import render_all
     folder = tmp_path_factory.mktemp("fuzz_ccx")
     deck = [p for p in render_all(small, folder, ["calculix"]) if "penalty" in p.name][0]
@@ -249,9 +249,9 @@ def test_op2_reader_on_mutated_files(plan):
 
 @pytest.fixture(scope="module")
 def f06_job(small, tmp_path_factory):
-    from deckbridge.external import mystran_run
+    from deckbridge.dialects.mystran import runner as mystran_run
     from deckbridge.mesh import build_mesh
-    from deckbridge.render.mystran import write
+    from deckbridge.dialects.mystran.render import write
     folder = tmp_path_factory.mktemp("fuzz_f06")
     model = load(None, SMALL + ["steps.lambda_max=0.5", "contact.stop.side=none"])
     try:

@@ -9,7 +9,7 @@ import pytest
 
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.readers.calculix import n2f_tangential_force
+from deckbridge.dialects.calculix.reader import n2f_tangential_force
 from test_import_mesh import _renumbered
 from ccx_job import ccx_penalty_job
 

@@ -32,7 +32,7 @@ def test_renumbered_import_gives_ccx_the_same_answers_through_the_job(tmp_path):
     assert set(b.node) <= set(nid.tolist())
     b = b.assign(node=b.node.map(back))
     j = a.merge(b, on=["method", "step", "increment", "node", "surface"], suffixes=("_p", "_i"))
-    assert len(j) == len(a) == len(b) and set(j.method) == {"penalty", "mortar"}
+    assert len(j) == len(a) == len(b) and set(j.method) == {"penalty", "mortar", "f2f"}
     for _, s in j.groupby(["method", "step", "increment"]):
         assert np.abs(s.sigma_n_pa_p - s.sigma_n_pa_i).max() <= 1e-6 * np.abs(s.sigma_n_pa_p).max()
     # ccx ParaView series: point k of the import is node on[k] of the parametric mesh

@@ -13,7 +13,7 @@ import pytest
 from click.testing import CliRunner
 
 from deckbridge.cli import main
-from deckbridge.importers.describe import model_for_mesh
+from deckbridge.imported_model import model_for_mesh
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from gmsh_skirt import gmsh_written

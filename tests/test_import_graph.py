@@ -9,6 +9,7 @@ edges from the package). Imports by name at run time (``importlib.import_module`
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -36,7 +37,8 @@ def _known(name: str, mods: dict) -> str | None:
     return name or None
 
 
-def edges() -> set[tuple[str, str]]:
+@functools.lru_cache(maxsize=1)
+def edges() -> frozenset[tuple[str, str]]:
     mods = modules()
     out = set()
     for name, path in mods.items():
@@ -56,7 +58,7 @@ def edges() -> set[tuple[str, str]]:
                 k = _known(t, mods)
                 if k and k != name:
                     out.add((name, k))
-    return out
+    return frozenset(out)
 
 
 def cycles(graph_edges: set[tuple[str, str]]) -> list[list[str]]:
@@ -96,8 +98,8 @@ def cycles(graph_edges: set[tuple[str, str]]) -> list[list[str]]:
 
 def test_graph_sees_function_level_and_relative_imports():
     e = edges()
-    assert ("deckbridge.render.calculix", "deckbridge.numbering.inp") in e        # module level, relative
-    assert ("deckbridge.job", "deckbridge.dialects") in e                           # inside a function
+    assert ("deckbridge.dialects.calculix.render", "deckbridge.numbering.inp") in e  # module level, relative
+    assert ("deckbridge.job", "deckbridge.errors") in e                             # inside a function
     assert ("deckbridge.render", "deckbridge.dialects") in e                        # a package's __init__
     # a two-module cycle is found
     assert cycles({("a", "b"), ("b", "a"), ("b", "c")}) == [["a", "b"]]
@@ -118,11 +120,112 @@ def test_reference_solver_imports_nothing_from_deckbridge():
     assert bad == []
 
 
-@pytest.mark.parametrize("leaf", ["deckbridge.dialects", "deckbridge.readers._registry"])
-def test_registries_are_leaves(leaf):
-    assert sorted(b for a, b in edges() if a == leaf) == []
+def test_registry_and_records_are_leaves():
+    """The registry imports only the record types; each dialect's record only them (its parts by name)."""
+    from deckbridge.dialects import NAMES
+    e = edges()
+    assert sorted(b for a, b in e if a == "deckbridge.dialects._record") == []
+    for node in ["deckbridge.dialects"] + [f"deckbridge.dialects.{n}" for n in NAMES]:
+        assert sorted(b for a, b in e if a == node) == ["deckbridge.dialects._record"], node
 
 
 @pytest.mark.parametrize("pkg", ["deckbridge.render", "deckbridge.readers"])
 def test_registered_modules_do_not_import_their_package_back(pkg):
     assert sorted(a for a, b in edges() if b == pkg and a.startswith(pkg + ".")) == []
+
+
+# --- folders: one layer order, no back-arrows -------------------------------------------------------
+# A folder is a package of deckbridge (deckbridge/render/, deckbridge/dialects/calculix/, ...); a module at
+# the top of deckbridge/ (model.py, job.py, ...) counts as its own folder. Bottom to top: a folder imports
+# folders of its own layer or below, never above, and no two folders import each other (directly or round
+# a loop). Every dialect folder deckbridge/dialects/<name>/ is in the "dialects" layer; the registry
+# deckbridge/dialects/ (its __init__ and the record types) is a leaf at the bottom.
+LAYERS = {
+    "base": ["errors", "azimuth", "jsonable", "textsafe", "units", "safe_yaml", "results", "quantities",
+             "mesh_data", "supports", "friction_table", "tangent_springs", "dialects", "summary_keys", "base_wall",
+             "api_callable", "methods", "deck_elements", "face_areas"],
+    "model": ["model_fields", "overrides", "outdir", "importers", "model", "mesh", "mesh_order", "numbering",
+              "imported_model"],
+    "outputs": ["render", "readers", "paraview", "wall_stress", "solve", "limits", "compare", "report"],
+    "dialects": ["dialects.*"],
+    "jobs": ["job", "studies"],
+    "entry": ["cli", "deckbridge", "api", "api_results", "api_studies", "contact_results"],        # the command line and the package's public face
+}
+
+
+def folder_of(module: str, mods: dict) -> str | None:
+    """The folder (layer unit) of a deckbridge module, without the ``deckbridge.`` prefix."""
+    if not module.startswith("deckbridge"):
+        return None
+    pkg = module if mods[module].name == "__init__.py" else module.rpartition(".")[0]
+    unit = module if pkg == "deckbridge" else pkg
+    return "deckbridge" if unit == "deckbridge" else unit[len("deckbridge."):]
+
+
+def layer_of(folder: str) -> int:
+    for i, members in enumerate(LAYERS.values()):
+        if folder in members or (folder.startswith("dialects.") and "dialects.*" in members):
+            return i
+    raise AssertionError(f"folder {folder!r} is in no layer of tests/test_import_graph.py LAYERS: place it")
+
+
+def folder_edges() -> set[tuple[str, str]]:
+    mods = modules()
+    out = set()
+    for a, b in edges():
+        fa, fb = folder_of(a, mods), folder_of(b, mods)
+        if fa and fb and fa != fb:
+            out.add((fa, fb))
+    return out
+
+
+def test_folders_import_only_their_layer_or_below():
+    names = list(LAYERS)
+    up = sorted(f"{a} ({names[layer_of(a)]}) -> {b} ({names[layer_of(b)]})"
+                for a, b in folder_edges() if layer_of(b) > layer_of(a))
+    assert up == []
+
+
+def test_no_two_folders_import_each_other():
+    assert cycles(folder_edges()) == []
+
+
+def test_every_folder_has_a_layer():
+    mods = modules()
+    for m in mods:
+        if m.startswith("deckbridge"):
+            layer_of(folder_of(m, mods))
+
+
+def test_layer_check_sees_a_back_arrow():
+    assert layer_of("cli") > layer_of("readers") > layer_of("model") > layer_of("errors")
+    assert layer_of("dialects.calculix") > layer_of("render") and layer_of("dialects") == 0
+    assert cycles({("report", "studies"), ("studies", "report")}) == [["report", "studies"]]
+
+
+MAX_LINES = 400
+
+
+def test_no_module_exceeds_400_lines():
+    long = sorted(f"{p.relative_to(ROOT)}: {n}" for p in modules().values()
+                  if (n := len(p.read_text().splitlines())) > MAX_LINES)
+    assert long == []
+
+
+def test_every_import_of_a_module_of_the_two_packages_names_one_that_exists():
+    """``from .x import y`` inside the packages names a module x that exists (a moved module leaves none
+    behind: the graph above would otherwise count the edge to the enclosing package and see nothing)."""
+    mods = modules()
+    bad = []
+    for name, path in mods.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                if node.level:
+                    base = package.split(".")[:len(package.split(".")) - (node.level - 1)]
+                    target = ".".join(base + [node.module])
+                else:
+                    target = node.module
+                if target.split(".")[0] in PACKAGES and target not in mods:
+                    bad.append(f"{name}: from {'.' * node.level}{node.module}")
+    assert bad == []

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 from deckbridge.cli import main
 from deckbridge.mesh import build_mesh
 from deckbridge.model import ModelError, load
-from deckbridge.readers.inp_mesh import read_inp_mesh
+from deckbridge.importers.inp_mesh import read_inp_mesh
 from gmsh_skirt import write_inp
 from test_import_checks import N, _ring
 

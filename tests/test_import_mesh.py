@@ -90,7 +90,7 @@ def test_default_jar_written_out_and_imported_back_gives_the_same_sigma(tmp_path
 def test_renumbered_mesh_decks_carry_the_user_ids(tmp_path):
     from pyNastran.bdf.bdf import BDF
 
-    from deckbridge.readers.inp_mesh import read_inp_mesh
+    from deckbridge.importers.inp_mesh import read_inp_mesh
     from deckbridge.render import render_all
 
     small = ["mesh.n_theta=24", "mesh.n_z=4", "mesh.n_r=1"]

@@ -8,14 +8,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from deckbridge.dialects import DIALECTS
 from deckbridge.errors import DeckUnsupported
-from deckbridge.external.ccx_run import run
+from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
-from deckbridge.numbering.inp import ccx_n2f_groups, ccx_node_slave_areas
-from deckbridge.readers import calculix as reader
-from deckbridge.readers.ccx_el_stress import read_base_wall
+from deckbridge.dialects.calculix.numbering import ccx_n2f_groups, ccx_node_slave_areas
+from deckbridge.dialects.calculix import reader as reader
+from deckbridge.dialects.calculix.el_stress import read_base_wall
 from deckbridge.render import render_all
 
 needs_ccx = pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
@@ -44,12 +43,9 @@ def test_nlgeom_false_every_deck_is_geometrically_linear_stop_included(tmp_path)
     assert len(steps) == 2 and not any("NLGEOM" in ln for ln in steps)
     assert "** Geometry: geometrically linear (no NLGEOM), as analysis.nlgeom = false asks." in mortar
     assert "NLGEOM although" not in mortar
-    assert DIALECTS["calculix"].nlgeom_forced(model) == {}
-    assert DIALECTS["abaqus"].nlgeom_forced(model) == {}
     _, free = _decks(tmp_path / "free", ["contact.stop.side=none"])
     assert not any("NLGEOM" in ln for name in ("JAR_ccx_penalty.inp", "JAR_ccx_lagrange.inp")
                    for ln in _step_lines(free[name]))
-    assert DIALECTS["calculix"].nlgeom_forced(load(None, SMALL + ["contact.stop.side=none"])) == {}
 
 
 def test_nlgeom_true_every_deck_carries_it(tmp_path):
@@ -104,7 +100,7 @@ def test_friction_is_refused_by_calculix_before_writing_and_rendered_by_abaqus(t
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
     deck = render_all(model, tmp_path / "abq", ["abaqus"])[0]
     assert deck.read_text().count("*FRICTION, LAGRANGE") == 1            # the table's; the stop is frictionless
-    from deckbridge.readers.inp_mesh import contact_friction
+    from deckbridge.importers.inp_mesh import contact_friction
     assert sorted(mu for _, _, mu in contact_friction(deck)) == [0.0, 0.2]
 
 

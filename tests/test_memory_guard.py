@@ -69,7 +69,7 @@ def test_refused_above_the_memory_with_one_line_naming_the_keys(monkeypatch):
     assert "\n" not in text
     assert text.startswith("mesh.n_theta x mesh.n_z x mesh.n_r = 16 x 4 x 1: ")
     assert f"{limits.dofs(16, 4, 1):,} dofs need about {sym / 1e9:.3g} GB (from its symbolic factorisation)" in text
-    assert "--allow-large" in text
+    assert "`allow_large`" in text              # the CLI writes it as --allow-large (PARAMETER_FLAGS)
     assert limits.check_memory(m, allow_large=True) > 0              # --allow-large passes it
 
 

@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 from deckbridge.errors import DeckbridgeError
-from deckbridge.external import mystran_run
+from deckbridge.dialects.mystran import runner as mystran_run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import detect, read
-from deckbridge.readers.mystran_f06 import read_spring_forces
-from deckbridge.render.mystran import write
+from deckbridge.dialects.mystran.reader import read_spring_forces
+from deckbridge.dialects.mystran.render import write
 from deckbridge.numbering.nastran import gap_layout, numbering
 
 pytestmark = pytest.mark.mystran

@@ -16,7 +16,7 @@ import pytest
 from deckbridge import read_contact
 from deckbridge.errors import DeckbridgeError
 from deckbridge.readers import detect, read
-from deckbridge.readers.nastran_contact import contact_tables
+from deckbridge.dialects.nastran_surface.reader import contact_tables
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "nx_surface_contact"
 OP2, BDF = DATA / "contact_model.op2", DATA / "contact_model.bdf"
@@ -185,7 +185,7 @@ def test_units_of_a_deckbridge_deck_beside(tmp_path):
     from deckbridge.dialects import DIALECTS
     from deckbridge.mesh import build_mesh
     from deckbridge.model import load
-    from deckbridge.readers.nastran_contact import _units
+    from deckbridge.dialects.nastran_surface.reader import _units
     model = load(None, ["mesh.n_theta=16", "mesh.n_z=3", "mesh.n_r=1", "units=mm"])
     (deck,) = DIALECTS["nastran_surface"].write(model, build_mesh(model), tmp_path)
     u = _units(deck.with_suffix(".op2"), deck, None)

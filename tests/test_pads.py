@@ -76,7 +76,7 @@ def _liftoff_estimate(df):
 
 
 def test_pads_liftoff_reference_lagrange_matches_ccx_mortar(tmp_path):
-    from deckbridge.external import ccx_run
+    from deckbridge.dialects.calculix import runner as ccx_run
     from deckbridge.readers import read
     from deckbridge.render import render_all
 
@@ -206,7 +206,7 @@ def test_pads_ccx_ebase_is_the_whole_bottom_row_and_balances_N(tmp_path):
     at lambda = 0 the wall's axial resultant over the base section is N."""
     from ccx_job import ccx_penalty_job
 
-    from deckbridge.readers.ccx_el_stress import read_base_wall
+    from deckbridge.dialects.calculix.el_stress import read_base_wall
 
     m = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "contact.stop.side=none",
                     "contact.pads={count: 4, width_deg: 45, first_deg: 0}", "steps.increments=2",

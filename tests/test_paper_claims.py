@@ -17,12 +17,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from deckbridge.external import ccx_run
+from deckbridge.dialects.calculix import runner as ccx_run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.quantities import sigma_n_wall
 from deckbridge.readers import read
-from deckbridge.render import abaqus, calculix
+from deckbridge.dialects.abaqus import render as abaqus
+from deckbridge.dialects.calculix import render as calculix
 from deckbridge.solve import solve_model
 from deckbridge.studies.cases import parse_grid_options
 from deckbridge.studies.liftoff import critical_load

@@ -231,7 +231,7 @@ def test_ccx_series_carries_frd_stress(tmp_path):
     reference series' ``stress_nodal_pa``: at step 1 (N alone) sigma_zz at mid-height is the membrane
     stress -N / (layer volume / h) within 1 %, the other components are below 1e-3 of it, and the von
     Mises field is |sigma_zz| there."""
-    from deckbridge.paraview_ccx import write_ccx_series
+    from deckbridge.dialects.calculix.paraview import write_ccx_series
     from ccx_job import ccx_penalty_job
 
     model = load(None, SMALL)
@@ -251,7 +251,7 @@ def test_ccx_series_carries_frd_stress(tmp_path):
 def test_ccx_series_equal_in_si_and_mm(tmp_path):
     """The same ccx penalty job written in SI and in mm gives the same series (issue 21 item 5): every point
     field in SI units, to ccx's printed digits (1e-5 of the field's largest value)."""
-    from deckbridge.paraview_ccx import write_ccx_series
+    from deckbridge.dialects.calculix.paraview import write_ccx_series
     from ccx_job import ccx_penalty_job
 
     small = ["mesh.n_theta=12", "mesh.n_z=3", "mesh.n_r=1", "steps.increments=2"]

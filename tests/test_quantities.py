@@ -10,7 +10,7 @@ import pytest
 import reference_solver as rs
 from deckbridge import quantities as Q
 from deckbridge.compare import compare_tables
-from deckbridge.external.ccx_run import run
+from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
@@ -18,8 +18,9 @@ from deckbridge.render import render_all
 from deckbridge.results import SourceResult
 from deckbridge.solve import condense_model, reactions, solve_system
 from deckbridge.studies.liftoff import critical_load
-from deckbridge.wall_stress import azimuth_groups, ccx_wall, reference_section_onset, reference_wall
-from reference_solver.section_onset import group_open
+from deckbridge.dialects.calculix.el_stress import ccx_wall
+from deckbridge.wall_stress import azimuth_groups, reference_section_onset, reference_wall
+from reference_solver.onset import group_open
 
 needs_ccx = pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
 SMALL = ["mesh.n_theta=32", "mesh.n_z=6", "mesh.n_r=2"]

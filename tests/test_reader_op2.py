@@ -14,8 +14,8 @@ from deckbridge.errors import DeckbridgeError
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import detect, read
-from deckbridge.readers.nastran_op2 import deck_contact_map, model_contact_map, read_gap_forces
-from deckbridge.render.nastran import write
+from deckbridge.dialects.nastran.reader import deck_contact_map, model_contact_map, read_gap_forces
+from deckbridge.dialects.nastran.render import write
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "msc_gap_examples"
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"shared MSC gap examples absent ({DATA})")
@@ -115,7 +115,7 @@ def test_tidy_with_model_areas_and_load_factors():
     subcase (0..1) or cumulatively (1..2) give the same load factor."""
     import pandas as pd
 
-    from deckbridge.readers.nastran_op2 import tidy
+    from deckbridge.dialects.nastran.reader import tidy
     from deckbridge.numbering.nastran import gap_layout
 
     model = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "steps.lambda_max=1.6"])
@@ -136,7 +136,7 @@ def test_tidy_with_model_areas_and_load_factors():
 def test_deck_units_line_converts_the_deck_map_to_si(tmp_path):
     """A deck written in mm says so in its header; the element map read from it is in metres and
     equals the model's map (areas aside)."""
-    from deckbridge.readers.nastran_op2 import deck_units, result_units
+    from deckbridge.dialects.nastran.reader import deck_units, result_units
 
     model = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "units=mm", "contact.stop.radius=1.485"])
     deck = write(model, build_mesh(model), tmp_path)[0]

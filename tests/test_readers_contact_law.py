@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 
 from deckbridge.errors import InputError
-from deckbridge.external.ccx_run import run
+from deckbridge.dialects.calculix.runner import run
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
-from deckbridge.render import calculix
+from deckbridge.dialects.calculix import render as calculix
 
 pytestmark = pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
 
@@ -62,7 +62,7 @@ def _flip_first(dat, head: str, node: int, col: int = 1) -> int:
 def test_real_files_read_clean(jobs):
     _, folder = jobs
     df = read(folder)
-    assert set(df["method"]) == {"penalty", "mortar"}
+    assert set(df["method"]) == {"penalty", "mortar", "f2f"}
     assert "origin" not in df.columns
 
 
@@ -135,7 +135,7 @@ def test_nastran_gap_force_of_the_other_sign_is_named_by_its_record():
     from pathlib import Path
 
     from deckbridge.readers._contact_law import check_contact_law
-    from deckbridge.readers.nastran_op2 import deck_contact_map, read_gap_forces, tidy
+    from deckbridge.dialects.nastran.reader import deck_contact_map, read_gap_forces, tidy
     data = Path(__file__).resolve().parents[2] / "shared" / "data" / "msc_gap_examples"
     if not (data / "v10601s.op2").is_file():
         pytest.skip("../shared/data not present")

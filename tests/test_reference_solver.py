@@ -186,7 +186,7 @@ def test_kinematic_penalty_liftoff_at_the_kern_for_any_k():
     """Liftoff at M_b = N R / 2 (REFERENCE.md section 3), whatever the penalty stiffness."""
     model, system = _system(*KIN, "loads.M=3.4e6")
     expected = model.loads.N * model.geometry.radius / 2 / model.base_moment
-    found = [rs.solve_path(system, "penalty", kf, increments=10, recover=False).liftoff_load_factor
+    found = [rs.solve_path(system, "penalty", kf, increments=10, recover=False, liftoff_surface="table").liftoff_load_factor
              for kf in (0.1, 1.0, 10.0)]
     for lf in found:
         assert lf == pytest.approx(expected, rel=0.02)
@@ -209,8 +209,9 @@ def test_kinematic_penalty_bisected_liftoff_matches_the_linear_onset():
 @pytest.mark.parametrize("method", ["penalty", "lagrange"])
 def test_path_following_onset_agrees_with_bisection(method):
     model, system = _system(*SMALL)
-    exact = rs.solve_path(system, method, increments=4, recover=False)
-    bis = rs.solve_path(system, method, increments=4, recover=False, onset="bisection", liftoff_tol=1e-7)
+    exact = rs.solve_path(system, method, increments=4, recover=False, liftoff_surface="table")
+    bis = rs.solve_path(system, method, increments=4, recover=False, onset="bisection", liftoff_tol=1e-7,
+                        liftoff_surface="table")
     assert exact.liftoff_method == "path-following" and bis.liftoff_method == "bisection"
     assert bis.liftoff_load_factor - 1e-7 <= exact.liftoff_load_factor <= bis.liftoff_load_factor
     assert exact.liftoff_row == bis.liftoff_row

@@ -131,7 +131,7 @@ def test_a_load_path_past_tipping_is_named(tmp_path):
     from click.testing import CliRunner
 
     from deckbridge.cli import main
-    from deckbridge.render import calculix
+    from deckbridge.dialects.calculix import render as calculix
 
     tip = 2.7e6 * (1.2 + 0.006) / (3.0e6 + 2.0e5 * 1.5)
     base = ["geometry.radius=1.2", "geometry.height=1.5", "geometry.thickness=0.012", "mesh.n_theta=24",
@@ -196,7 +196,7 @@ def test_ccx_mortar_friction_takes_small_increments_and_matches_the_reference_la
     (measured 0.20 %). The reference is increment-independent here (5 against 50 increments: <= 0.11 %)."""
     from ccx_job import ccx_job
 
-    from deckbridge.render import calculix
+    from deckbridge.dialects.calculix import render as calculix
     from deckbridge.solve import solve_model
 
     model = load(None, ["geometry.radius=1.5", "geometry.height=2.0", "geometry.thickness=0.045",

@@ -13,6 +13,7 @@ command shows its error line alone.
 from __future__ import annotations
 
 import functools
+import re
 import os
 import signal
 import traceback
@@ -43,6 +44,20 @@ def _on_sigterm(signum, frame):
 
 MESH_META = "deckbridge.mesh"      # click context meta: the mesh the memory guard built (None when it built none)
 OPTION_FLAGS = {"k_factor": "--k-factor", "alpha": "--alpha"}   # library argument named in an error -> its flag
+# Library messages name a function's parameter in backquotes (`workers`), never a flag; the command line
+# shows the flag that sets it. One mapping: parameter -> flag.
+PARAMETER_FLAGS = {
+    "workers": "--workers", "tol": "--tol", "scheduler": "--scheduler", "executor": "--executor",
+    "k_factors": "--k-factors", "open_stiffness": "--open-stiffness", "load_factors": "--load-factor",
+    "mesh_variants": "--mesh", "grid": "--grid", "methods": "--method", "allow_large": "--allow-large",
+    "force": "--force", "outdir": "-o", "overrides": "--set", "dialects": "--dialect", "solvers": "--with",
+}
+_PARAMETER = re.compile(r"`([a-z_]+)`")
+
+
+def as_flags(text: str) -> str:
+    """``text`` with each backquoted parameter of :data:`PARAMETER_FLAGS` written as its flag."""
+    return _PARAMETER.sub(lambda m: PARAMETER_FLAGS.get(m.group(1), m.group(0)), text)
 
 
 def _describe(exc: BaseException) -> tuple[str, int]:
@@ -50,7 +65,7 @@ def _describe(exc: BaseException) -> tuple[str, int]:
     if isinstance(exc, ModelError) and exc.key in OPTION_FLAGS:
         exc = ModelError(OPTION_FLAGS[exc.key], exc.value, exc.reason, exc.source)
     if isinstance(exc, DeckbridgeError):
-        return one_line(exc), EXIT_RUN if _solver_failure(exc) else exc.exit_code
+        return as_flags(one_line(exc)), EXIT_RUN if _solver_failure(exc) else exc.exit_code
     if isinstance(exc, ResultsError):
         return one_line(exc), EXIT_INPUT
     if isinstance(exc, MemoryError):

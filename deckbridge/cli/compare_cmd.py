@@ -8,7 +8,7 @@ import click
 
 from ..errors import DeckbridgeError
 from ..model import load
-from ..readers import detect, formats, read
+from ..readers import detect, formats
 from ._common import main
 
 
@@ -33,19 +33,19 @@ def compare_cmd(sources, outdir, model_path, overrides, load_factors, formats, s
     # solver (every other command starts without them)
     from ..compare import compare_tables
     from ..compare.onsets import describe
-    from ..readers.reference import read_source
+    from ..mesh import build_mesh
+    from ..readers import read_result
     from ..report import write_report
-    from ..wall_stress import with_ccx_wall
 
     model = load(model_path, list(overrides)) if (model_path or overrides) else None
     if formats and len(formats) not in (1, len(sources)):
         raise DeckbridgeError(f"--format given {len(formats)} times for {len(sources)} sources: give one, or one per source")
     fmts = list(formats) * len(sources) if len(formats) == 1 else (list(formats) or [None] * len(sources))
+    mesh = build_mesh(model) if model is not None else None      # the command's one mesh
     tables, inputs = [], {}
     for src, fmt in zip(sources, fmts):
         name = fmt or detect(src)
-        tab = read_source(src, model=model) if name == "reference" else read(src, fmt=name, model=model)
-        tables.append(with_ccx_wall(tab, src, model) if name == "calculix" else tab)
+        tables.append(read_result(src, fmt=name, model=model, mesh=mesh))   # the format's record decides
         inputs[src] = name
     result = compare_tables(tables, load_factors=list(load_factors) or None, origins=list(sources), surface=surface)
     shown = {s.label: f"{s.origin} ({inputs[s.origin]})" for s in result.series}

@@ -3,7 +3,7 @@
 import click
 
 from ..dialects import names
-from ._common import main, model_options
+from ._common import as_flags, main, model_options
 
 
 @main.command("decks")
@@ -20,6 +20,6 @@ def decks_cmd(model, outdir, dialects):
     """
     from ..render import render_all          # jinja2: imported by the commands that render only
 
-    skip = None if dialects else (lambda exc: click.echo(exc.note()))
+    skip = None if dialects else (lambda exc: click.echo(as_flags(exc.note())))
     for path in render_all(model, outdir, list(dialects) or None, on_unsupported=skip):
         click.echo(f"wrote {path}")

@@ -24,7 +24,7 @@ from ._common import main
 @click.option("--force", is_flag=True, help="Overwrite an existing model file.")
 def import_cmd(mesh, out, base, top, stop, units, name, overrides, like, force):
     """Read MESH (.inp, .msh, .bdf), check it, and write a model that uses it."""
-    from ..importers.describe import model_for_mesh
+    from ..imported_model import model_for_mesh
     from ..model import load
     p = Path(out)
     if p.exists() and not force:

@@ -1,20 +1,22 @@
-"""``deckbridge solve``: run the reference solver on a model with the penalty or the Lagrange method."""
+"""``deckbridge solve``: run the reference solver on a model with one contact method (deckbridge.methods)."""
 
 import click
 from tqdm import tqdm
 
 from ..errors import DeckbridgeError
+from ..methods import K_METHODS, METHODS, NAMES
 from ._common import MESH_META, main, model_options
 
 
 @main.command("solve")
 @model_options
-@click.option("--method", type=click.Choice(["penalty", "lagrange"]), required=True,
-              help="Contact method: penalty (gap springs, CGAP/PGAP semantics) or lagrange (exact).")
+@click.option("--method", type=click.Choice(NAMES), required=True,
+              help="Contact method: penalty (gap springs, CGAP/PGAP semantics), lagrange (exact) or augmented "
+                   "(augmented Lagrangian: penalty plus multiplier updates, the exact answer at any k).")
 @click.option("--alpha", type=float, default=None,
-              help="Penalty: k_c = ALPHA A^2 K / V instead of the model's contact.penalty.alpha.")
+              help="Penalty, augmented: k_c = ALPHA A^2 K / V instead of the model's contact.penalty.alpha.")
 @click.option("--k-factor", "k_factor", type=float, default=None,
-              help="Penalty: multiply the model's normal contact stiffness by F.")
+              help="Penalty, augmented: multiply the model's normal contact stiffness by F.")
 @click.option("--algorithm", type=click.Choice(["active-set", "gauss-seidel"]), default=None,
               help="Lagrange: exact active set (default) or the paper's projected Gauss-Seidel (slow past liftoff).")
 @click.option("-o", "--out", "outdir", required=True, type=click.Path(),
@@ -28,12 +30,13 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
 
     if alpha is not None and k_factor is not None:
         raise DeckbridgeError(f"--alpha = {alpha!r} and --k-factor = {k_factor!r}: give one or the other")
-    if method == "lagrange" and (alpha is not None or k_factor is not None):
-        raise DeckbridgeError("--alpha/--k-factor: only for --method penalty (Lagrange has no penalty stiffness)")
-    if method == "penalty" and algorithm is not None:
+    if method not in K_METHODS and (alpha is not None or k_factor is not None):
+        raise DeckbridgeError(f"--alpha/--k-factor: only for --method {' or '.join(K_METHODS)} "
+                              "(Lagrange has no penalty stiffness)")
+    if algorithm is not None and algorithm not in METHODS[method].algorithms:
         raise DeckbridgeError(f"--algorithm = {algorithm!r}: only for --method lagrange")
     k_factor = 1.0 if k_factor is None else k_factor
-    if method == "penalty":
+    if method in K_METHODS:
         penalty_factor(model, k_factor, alpha)          # its range, before any work
     with tqdm(total=model.steps.increments + 2, desc=f"{method} increments", unit="inc", leave=False) as bar:
         def progress(step, inc, lam):
@@ -52,3 +55,7 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
                + ("" if lfs is None else f" (whole section {lfs:.4f})")
                + f"; sigma_n in [{summary[K.MIN_SIGMA_N_PA] / 1e6:.4g}, {summary[K.MAX_SIGMA_N_PA] / 1e6:.4g}] MPa;"
                f" {summary[K.DOFS]} dofs in {summary[K.WALL_TIME_S]:.2f} s")
+    if summary.get(K.AUGMENTED):
+        au = summary[K.AUGMENTED]
+        click.echo(f"augmented: {au['augmentations']} augmentations (at most {au['augmentations_max']} per "
+                   f"increment); penetration {au['penetration_m']:.3g} m (tolerance {au['penetration_tol_m']:.3g} m)")

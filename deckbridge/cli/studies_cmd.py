@@ -10,6 +10,7 @@ import click
 
 from .. import limits
 from ..errors import DeckbridgeError
+from ..methods import K_METHODS, LAGRANGE, NAMES, PENALTY
 from ..outdir import lock, remove_stale, staged
 from ._common import main, model_options
 
@@ -45,15 +46,17 @@ DEFAULT_K = "0.01,0.1,1,10,100,1000"
 @click.option("--executor", type=click.Choice(["auto", "local", "dask"]), default="auto", show_default=True,
               help="local: condense here, cases on worker processes forked from this one (no cluster); dask: a "
                    "Dask cluster (local, or --scheduler); auto: local for one condensation (one mesh), else dask.")
+@click.option("--augmented", is_flag=True,
+              help="Also solve with the augmented Lagrangian at every k-factor (its curve against k is flat).")
 def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, load_factors, open_stiffness,
-              scheduler, workers, strategy, executor):
+              scheduler, workers, strategy, executor, augmented):
     """Penalty sensitivity of MODEL: every k-factor (and mesh, and grid point) against the Lagrange
     reference, with the paper's two claims judged per variant and quantity."""
     from ..studies.cases import mesh_variants, parse_grid_options, parse_k_factors, parse_mesh_options
     from ..studies.cluster import executor_kind, open_executor
     from ..studies.sweep import check_options, run_sweep
 
-    _check_sizes(k_factors, mesh_opts, load_factors, workers, grid_opts)   # counted before anything is expanded
+    _check_sizes(k_factors, mesh_opts, load_factors, workers, grid_opts, augmented)   # counted before any expansion
     ks = parse_k_factors(k_factors)
     meshes = parse_mesh_options(mesh_opts)
     grid = parse_grid_options(grid_opts)
@@ -70,7 +73,7 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
         with open_executor(executor, scheduler, workers, condensations) as client:
             out = run_sweep(model, ks, outdir, meshes=meshes, tol=tol, load_factors=list(load_factors) or None,
                             open_stiffness=open_stiffness, client=client, strategy=strategy, progress=True,
-                            grid=grid, claim_load_factor=claim_lf)
+                            grid=grid, claim_load_factor=claim_lf, augmented=augmented)
     s, run = out["summary"], out["run"]
     click.echo(f"{len(run['computed'])} cases computed, {len(run['reused'])} reused from {Path(outdir) / 'cases'}"
                + (f", {len(run['failed_now'])} failed" if run["failed_now"] else "")
@@ -89,6 +92,10 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
             click.echo(f"  {d['k_factor']:>9g} {d['max_abs_diff_pa'] / 1e6:>14.3f} {d['max_rel_diff'] * 100:>10.2f} "
                        f"{d['liftoff_zone_iou']:>6.3f} {d['peak_compression_pa'] / 1e6:>9.2f} "
                        f"{_f(d['liftoff_load_factor']):>8}  {'yes' if d['within_tol'] else 'no'}")
+        for d in m.get("augmented", []):
+            click.echo(f"  {d['k_factor']:>9g}  augmented: " + (f"failed: {d['error']}" if d.get("error") else
+                       f"{d['max_abs_diff_pa'] / 1e6:.3g} MPa ({d['max_rel_diff'] * 100:.2g} % of peak) from Lagrange, "
+                       f"liftoff {_f(d['liftoff_load_factor'])}"))
         if not m.get("max_rel_diff_never_grows_with_k"):
             click.echo("  note: max |dsig| grows again at large k (open gaps carry k_open x gap; "
                        "try --open-stiffness fixed or a smaller contact.penalty.open_ratio)")
@@ -128,7 +135,7 @@ def _mpa(v) -> str:
     return "-" if v is None else f"{v / 1e6:.3g}"
 
 
-def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=()) -> None:
+def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=(), augmented: bool = False) -> None:
     """Caps on the size of a study, from the option text alone (nothing expanded yet)."""
     n_k = str(k_factors).count(",") + 1
     limits.check_count("--k-factors", n_k, limits.MAX_K_FACTORS, "k-factors")
@@ -140,7 +147,8 @@ def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=())
     for opt in grid_opts:
         n_grid *= opt.count(",") + 1
         limits.check_count("--grid", n_grid, limits.MAX_GRID_CASES, "grid cases")
-    limits.check_count("--k-factors x --mesh x --grid", n_grid * n_mesh * (n_k + 1), limits.MAX_CASES, "cases")
+    per_variant = (2 if augmented else 1) * n_k + 1           # Lagrange, penalty (and augmented) per k-factor
+    limits.check_count("--k-factors x --mesh x --grid", n_grid * n_mesh * per_variant, limits.MAX_CASES, "cases")
     limits.check_count("--load-factor", len(load_factors), limits.MAX_LOAD_FACTORS, "load factors")
     limits.check_workers(workers)
 
@@ -151,8 +159,8 @@ def _f(v) -> str:
 
 @main.command("liftoff")
 @model_options
-@click.option("--method", type=click.Choice(["penalty", "lagrange", "both"]), default="both", show_default=True,
-              help="Contact method(s); with both, the difference is printed.")
+@click.option("--method", type=click.Choice([*NAMES, "both"]), default="both", show_default=True,
+              help="Contact method (deckbridge.methods) or both (penalty and lagrange, their difference printed).")
 @click.option("--tol", type=float, default=1e-3, show_default=True,
               help="Tolerance on the critical load factor (absolute, in lambda).")
 @click.option("--k-factor", "k_factor", type=float, default=None,
@@ -165,9 +173,9 @@ def liftoff_cmd(model, method, tol, k_factor, outdir):
     from ..studies.liftoff import format_table
     from ..studies.metrics import rnd
 
-    methods = ("penalty", "lagrange") if method == "both" else (method,)
-    if k_factor is not None and "penalty" not in methods:
-        raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method penalty or both")
+    methods = (PENALTY, LAGRANGE) if method == "both" else (method,)
+    if k_factor is not None and not any(m in K_METHODS for m in methods):
+        raise DeckbridgeError(f"--k-factor = {k_factor!r}: only for --method {', '.join(K_METHODS)} or both")
     res = liftoff(model, methods, tol=tol, k_factor=1.0 if k_factor is None else k_factor).summary
     click.echo(format_table(res))
     if outdir is not None:

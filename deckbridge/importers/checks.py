@@ -18,7 +18,8 @@ def hex8_only(raw, key: str = "mesh.file"):
     other = {t: (len(i), c.shape[1]) for t, (i, c) in solids.items() if t.upper() not in HEX8 or c.shape[1] != 8}
     if other:
         t, (n, k) = next(iter(other.items()))
-        raise ModelError(key, raw.path, f"{n} elements of type {t}: {solid_shape(k)}; {LATER}")
+        raise ModelError(key, raw.path, f"{n} elements of type {t}: {solid_shape(k)}; {LATER}"
+                         f"{_order_note(raw, t, solids[t][1])}")
     hexes = list(solids.values())
     if not hexes:
         skin = ", ".join(sorted(raw.elements)) or "none"
@@ -29,6 +30,21 @@ def hex8_only(raw, key: str = "mesh.file"):
     if (cnt > 1).any():
         raise ModelError(key, raw.path, f"element {int(u[cnt > 1][0])} is defined twice")
     return ids, conn
+
+
+def _order_note(raw, etype: str, conn_ids) -> str:
+    """'; node order ...' for a 10-, 15- or 20-node solid (:mod:`.node_order`), '' for other types or when
+    its node ids are not all defined; the parametric skirt's element key as the way to run these types."""
+    from .node_order import node_order_problem, to_calculix_order
+    conn_ids = to_calculix_order(etype, conn_ids)
+    name = {10: "c3d10", 15: "c3d15", 20: "c3d20", 4: "c3d4"}.get(conn_ids.shape[1])
+    index = {int(n): i for i, n in enumerate(raw.node_ids)}
+    if name is None or not all(int(n) in index for n in np.unique(conn_ids)):
+        return ""
+    cells = np.vectorize(index.__getitem__, otypes=[np.int64])(conn_ids)
+    why = node_order_problem(np.asarray(raw.nodes, float), cells, name)
+    return (f"; node order: {why}" if why else "; node order checked (CalculiX's)") + \
+        "; the parametric skirt takes these types (mesh.element: hex20 | hex20r | tet10 | wedge15 | tet4)"
 
 
 def ids_in_range(raw, elem_ids, key: str = "mesh.file") -> None:

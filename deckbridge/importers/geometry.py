@@ -5,7 +5,7 @@ report): mid-wall radius = (r_inner + r_outer) / 2 and thickness = r_outer - r_i
 inner and outer rings (each the mean radius of the ring's nodes, :func:`.measure.rings`: a file's limited
 precision averages out), height = top plane - base plane, ``top_radius`` when the top's mid-wall radius
 differs (a cone) [m]. Called by :func:`deckbridge.model.load` (this module imports no model module) and by
-``deckbridge import`` (:mod:`.describe`).
+``deckbridge import`` (:mod:`deckbridge.imported_model`).
 """
 
 from __future__ import annotations

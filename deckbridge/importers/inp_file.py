@@ -1,4 +1,4 @@
-"""Abaqus/CalculiX ``.inp`` mesh: nodes and elements through :func:`deckbridge.readers.inp_mesh.read_inp_mesh`
+"""Abaqus/CalculiX ``.inp`` mesh: nodes and elements through :func:`.inp_mesh.read_inp_mesh`
 (meshio 5.3 keeps only the last ``*NODE`` block), node sets from ``*NSET`` (lists or GENERATE), and from element sets of skin elements (``*ELSET`` or
 ``*ELEMENT, ELSET=``: the nodes of their 2D elements, e.g. the CPS4 faces Gmsh writes for a physical
 group) under a name no ``*NSET`` uses."""
@@ -14,7 +14,7 @@ from .raw import RawMesh, is_solid
 
 def _nsets(text: str, kind: str = "NSET") -> dict:
     """Sets of ``*NSET`` (``kind`` 'NSET') or ``*ELSET`` (``kind`` 'ELSET'): name -> ids."""
-    from ..readers.inp_mesh import keyword_blocks
+    from .inp_mesh import keyword_blocks
     sets: dict[str, list[int]] = {}
     for key, opts, data in keyword_blocks(text):
         if key != kind:
@@ -49,7 +49,7 @@ def _element_node_sets(elsets: dict, elements: dict) -> dict:
 
 
 def read_inp(path: Path) -> RawMesh:
-    from ..readers.inp_mesh import read_inp_mesh
+    from .inp_mesh import read_inp_mesh
     m = read_inp_mesh(path)
     text = Path(path).read_text(errors="replace")
     elsets = _nsets(text, "ELSET")

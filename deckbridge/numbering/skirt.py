@@ -64,7 +64,8 @@ def bottom_row_index(mesh) -> np.ndarray:
     Structured mesh: indices 0 .. n_r n_theta - 1 (element index = (k n_r + i) n_theta + j, k = 0);
     imported mesh (user ids): the hexahedra whose four base corners lie on z = 0 (1e-9 of the height).
     """
-    if getattr(mesh, "elem_ids", None) is None:
-        return np.arange(mesh.n_r * mesh.n_theta)
+    if getattr(mesh, "elem_ids", None) is None:   # (tetrahedra, wedges: the cells of a coarse cell in a row)
+        per_cell = mesh.hexes.shape[0] // (mesh.n_r * mesh.n_theta * mesh.n_z)
+        return np.arange(mesh.n_r * mesh.n_theta * per_cell)
     z = mesh.nodes[mesh.hexes[:, :4], 2]
     return np.flatnonzero((np.abs(z) <= 1e-9 * np.ptp(mesh.nodes[:, 2])).all(axis=1))

@@ -137,7 +137,7 @@ def check_table(df: pd.DataFrame, path: Path, lambda_max: float | None = None,
             continue
         what = f" ({'/'.join(str(k) for k in key)})" if group else ""
         raise InputError(f"{str(path)!r}{what}: results end at load factor {last:g}, before steps.lambda_max = "
-                         f"{lambda_max:g}: job unfinished or file truncated (--load-factor {last:g} or less "
+                         f"{lambda_max:g}: job unfinished or file truncated (`load_factors` {last:g} or less "
                          "compares what is there)")
 
 

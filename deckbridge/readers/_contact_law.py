@@ -11,8 +11,9 @@ gaps), a row is refused when
   or, in a Lagrange-type result (method ``lagrange`` or ``mortar``), not open (gap <= max(LAW_REL * g,
   floor): a Lagrange contact is closed at gap 0);
 - it is in compression (sigma_n < -LAW_REL * peak) while open (gap > max(LAW_REL * g, floor)); for a
-  Lagrange-type (mortar) row, while its whole neighbourhood is open (its own azimuth and the two beside it:
-  the mortar law constrains weighted gaps, :func:`_neighbourhood_gap`).
+  Lagrange-type (mortar) row or a ccx face-to-face penalty row (method ``f2f``), while its whole
+  neighbourhood is open (its own azimuth and the two beside it: these laws act on face-weighted gaps, a
+  half-closed face hands force to its open node, :func:`_neighbourhood_gap`).
 
 The gap judged is the solver's own where the reader has it (column ``law_gap_m``: ccx's ``*CONTACT PRINT``
 CDIS normal of a node-to-surface penalty row, printed from the same contact element and solution as its
@@ -53,6 +54,7 @@ from ..errors import InputError
 LAW_REL = 1e-3
 GAP_FLOOR = 1e-8          # times the largest |r| of the table (1 m without radii) [m]
 LAGRANGE_METHODS = ("lagrange", "mortar")
+WEIGHTED_METHODS = ("mortar", "f2f")      # laws on face-weighted gaps (ccx mortar, ccx face-to-face penalty)
 _STATE = ["source", "method", "step", "increment"]
 EXTRA = ("origin", "preload_pa", "law_gap_m")     # reader columns only this check uses
 
@@ -101,8 +103,9 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
     with np.errstate(invalid="ignore"):
         closed = (gap < -tol_p) | (lagrange & (gap <= tol_g))
         opened = gap > tol_g
-        if lagrange.any() and "theta_deg" in df.columns:   # mortar: its law holds for weighted gaps
-            opened &= ~lagrange | (_neighbourhood_gap(df, gap, group) > tol_g)
+        weighted = lagrange | np.isin(method, WEIGHTED_METHODS)
+        if weighted.any() and "theta_deg" in df.columns:   # mortar, face-to-face: laws on weighted gaps
+            opened &= ~weighted | (_neighbourhood_gap(df, gap, group) > tol_g)
         tension, compression = s > tol_s, s < -tol_s
     live = method != "linear"
     rules = [

@@ -1,18 +1,10 @@
-"""File access shared by the readers: one-line errors naming the file."""
+"""File access shared by the readers: a result folder's companion files, an inp job's units (reading a file
+with a one-line error: :func:`deckbridge.errors.read_text`)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import DeckbridgeError
-
-
-def read_text(path: str | Path) -> str:
-    """Text of ``path`` (undecodable bytes replaced); DeckbridgeError naming the file if it cannot be read."""
-    try:
-        return Path(path).read_text(errors="replace")
-    except OSError as exc:
-        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
 
 
 def beside(origin, name: str) -> Path | None:

@@ -22,7 +22,11 @@ from ..numbering.skirt import mesh_node_ids, mesh_node_index
 @lru_cache(maxsize=8)
 def slave_nodes(model: Model) -> pd.DataFrame:
     """Slave nodes of ``model``: index = deck node id; columns theta_deg, r, z, table, stop (bool)."""
-    mesh = build_mesh(model)
+    return slave_nodes_of(build_mesh(model))
+
+
+def slave_nodes_of(mesh) -> pd.DataFrame:
+    """:func:`slave_nodes` of a mesh already built."""
     ids = mesh_node_ids(mesh, mesh.table.nodes)
     in_stop = np.zeros(mesh.n_nodes, bool)
     if mesh.stop is not None:
@@ -44,12 +48,13 @@ def slave_nodes(model: Model) -> pd.DataFrame:
     }, index=pd.Index(ids, name="node"))
 
 
-def locate(nodes: np.ndarray, model: Model, path, surface: str | None = None) -> pd.DataFrame:
+def locate(nodes: np.ndarray, model: Model, path, surface: str | None = None, mesh=None) -> pd.DataFrame:
     """Rows of :func:`slave_nodes` for ``nodes``; raise naming ``path`` if one is not a slave node.
 
-    With ``surface`` ('table' or 'stop') the nodes must belong to that slave set.
+    With ``surface`` ('table' or 'stop') the nodes must belong to that slave set. ``mesh``: ``model``'s
+    mesh when already built.
     """
-    table = slave_nodes(model)
+    table = slave_nodes(model) if mesh is None else slave_nodes_of(mesh)
     nodes = np.asarray(nodes, dtype=np.int64)
     known = np.isin(nodes, table.index.to_numpy())
     if not known.all():
@@ -69,10 +74,10 @@ def surface_of(rows: pd.DataFrame) -> np.ndarray:
     return np.where(rows["table"].to_numpy(), "table", "stop")
 
 
-def slave_areas(model: Model, nodes, surfaces) -> np.ndarray:
-    """Tributary contact area [m^2] of each (deck node id, surface) of ``model``'s mesh; NaN where the
-    node is not a slave of that surface."""
-    mesh = build_mesh(model)
+def slave_areas(model: Model, nodes, surfaces, mesh=None) -> np.ndarray:
+    """Tributary contact area [m^2] of each (deck node id, surface) of ``model``'s mesh (``mesh`` when already
+    built); NaN where the node is not a slave of that surface."""
+    mesh = mesh if mesh is not None else build_mesh(model)
     out = np.full(len(nodes), np.nan)
     nodes, surfaces = np.asarray(nodes, np.int64), np.asarray(surfaces).astype(str)
     for s in mesh.slave_sets:

@@ -30,7 +30,6 @@ import pandas as pd
 
 from ..errors import DeckbridgeError
 from ..results import REQUIRED as COLUMNS
-from ._registry import register
 from ..results import with_forces
 from ._checks import checked
 from ._nodemap import locate, slave_areas, surface_of
@@ -132,9 +131,8 @@ def _data_lines(path: Path, n: int) -> list[str]:
     return [f"data row {k}" for k in range(1, n + 1)]
 
 
-@register("plain_csv", detect=detect)
 @checked("never")
-def read(path: Path, model=None) -> pd.DataFrame:
+def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
     """Read a post-processor CSV export into the tidy table (sign and unit from the header)."""
     from ..model import load
 
@@ -180,7 +178,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
     z = r_ = np.full(n, np.nan)
     surface = np.full(n, "table", dtype=object)
     if "node" in r:
-        located = locate(nodes, model_used, path)
+        located = locate(nodes, model_used, path, mesh=mesh if model is not None else None)
         z, r_ = located["z"].to_numpy(), located["r"].to_numpy()
         surface = surface_of(located)
         theta = located["theta_deg"].to_numpy()
@@ -217,7 +215,7 @@ def read(path: Path, model=None) -> pd.DataFrame:
         surface = df[r["surface"][0]].astype(str).str.strip().str.lower().to_numpy()
     source = df[r["source"][0]].astype(str).to_numpy() if "source" in r else "csv"
     method = df[r["method"][0]].astype(str).to_numpy() if "method" in r else path.stem
-    area = slave_areas(model_used, nodes, surface) if "node" in r else np.full(n, np.nan)
+    area = slave_areas(model_used, nodes, surface, mesh if model is not None else None) if "node" in r else np.full(n, np.nan)
     key = pd.DataFrame({"source": source, "method": method, "step": step, "increment": inc, "surface": surface,
                         "where": nodes if "node" in r else theta})
     dup = key.duplicated(keep=False).to_numpy()

@@ -23,9 +23,11 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DeckbridgeError
+from .. import friction_table as FT
+from .. import wall_stress as WS
 from ..results import REQUIRED as COLUMNS, ResultsError, SourceResult, conform
-from ._registry import register
 from ._checks import checked
+from ._files import beside
 from ._nodemap import locate
 
 THETA_TOL_DEG = 1e-3
@@ -53,10 +55,10 @@ def detect(path: Path) -> bool:
     return set(COLUMNS) <= set(_header(path))
 
 
-@register("reference", detect=detect)
 @checked(None)
-def read(path: Path, model=None) -> pd.DataFrame:
-    """Read contact.csv of a reference output folder (or the csv itself) into the tidy table."""
+def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
+    """Read contact.csv of a reference output folder (or the csv itself) into the tidy table (``mesh``:
+    ``model``'s, when built)."""
     src = contact_csv(Path(path))
     if not src.is_file():
         raise DeckbridgeError(f"{str(src)!r}: no such file (a reference output folder holds contact.csv)")
@@ -76,14 +78,14 @@ def read(path: Path, model=None) -> pd.DataFrame:
     if not np.isfinite(out["sigma_n_pa"].to_numpy()).all():
         raise DeckbridgeError(f"{str(src)!r}: sigma_n_pa holds non-finite values")
     if model is not None:
-        check_against_model(out, model, src)
+        check_against_model(out, model, src, mesh)
     return out.assign(origin=[f"{str(src)!r}: line {i + 2}" for i in range(len(out))])   # for the contact-law check
 
 
-def check_against_model(df: pd.DataFrame, model, path) -> None:
+def check_against_model(df: pd.DataFrame, model, path, mesh=None) -> None:
     """Raise naming ``path`` unless every node is a slave node of ``model`` at the azimuth of the table."""
     nodes = df["node"].to_numpy()
-    rows = locate(nodes, model, path)
+    rows = locate(nodes, model, path, mesh=mesh)
     d = np.abs(rows["theta_deg"].to_numpy() - df["theta_deg"].to_numpy())
     d = np.minimum(d, 360.0 - d)
     if (d > THETA_TOL_DEG).any():
@@ -101,11 +103,11 @@ def check_against_model(df: pd.DataFrame, model, path) -> None:
                 f"(r = {np.median(r_file[ok]):.6g} vs {np.median(r_model[ok]):.6g} m): different units or another model")
 
 
-def read_source(path, model=None) -> SourceResult:
+def read_source(path, model=None, mesh=None) -> SourceResult:
     """The table of :func:`read` with the folder's global figures per method, its result.vtu fields,
     its summary.json (the solver's liftoff, reactions, timings) when that is a JSON object and its
     friction.csv (:mod:`deckbridge.friction_table`) when the solution had friction."""
-    table = read(Path(path), model=model)
+    table = read(Path(path), model=model, mesh=mesh)
     summary = None
     folder = _folder(path)
     if folder is not None and (folder / "summary.json").is_file():
@@ -113,11 +115,32 @@ def read_source(path, model=None) -> SourceResult:
             summary = json.loads((folder / "summary.json").read_text())
         except (OSError, ValueError, RecursionError):
             summary = None
-    from ..friction_table import read_friction
-    from ..wall_stress import read_wall
     return SourceResult(table, str(path), summary=summary if isinstance(summary, dict) else None,
                         wall=read_wall(folder), friction=read_friction(folder),
                         **read_globals(path, table["method"].unique()))
+
+
+def read_wall(folder) -> pd.DataFrame | None:
+    """wall_stress.csv (:mod:`deckbridge.wall_stress`) of a reference folder, None when absent."""
+    p = beside(folder, WS.WALL_CSV)
+    if p is None:
+        return None
+    df = pd.read_csv(p)
+    return df if set(WS.WALL_COLUMNS) <= set(df.columns) else None
+
+
+def read_friction(folder) -> pd.DataFrame | None:
+    """friction.csv of a reference folder (or beside a contact.csv), None when absent or not one."""
+    p = beside(folder, FT.FRICTION_CSV)
+    if p is None:
+        return None
+    try:
+        df = pd.read_csv(p)
+    except (OSError, ValueError, pd.errors.ParserError):
+        return None
+    if not set(FT.COLUMNS) <= set(df.columns) or not df["stick_status"].isin(FT.STATUSES).all():
+        return None
+    return df[FT.COLUMNS]
 
 
 def read_globals(origin, methods) -> dict:
@@ -236,15 +259,29 @@ def global_metrics(origin, method: str | None = None, vtu_fields=_UNREAD) -> dic
         if out:
             used.append("summary.json")
     if "max_von_mises_pa" not in out or "max_displacement_m" not in out:
-        f = fields(folder) if vtu_fields is _UNREAD else vtu_fields
-        extra = {}
-        if f is not None and f["vm"] is not None and "max_von_mises_pa" not in out:
-            extra["max_von_mises_pa"] = float(np.nanmax(np.abs(f["vm"])))
-        if f is not None and f["u"] is not None and "max_displacement_m" not in out:
-            extra["max_displacement_m"] = float(np.nanmax(np.linalg.norm(f["u"], axis=1)))
+        extra = field_maxima(fields(folder) if vtu_fields is _UNREAD else vtu_fields)
+        extra = {k: v for k, v in extra.items() if k not in out}
         if extra:
             out.update(extra)
             used.append("result.vtu")
     if out:
         out["from"] = " + ".join(used)
     return out
+
+
+def field_maxima(f: dict | None) -> dict:
+    """{'max_von_mises_pa', 'max_displacement_m'} of :func:`fields` (each when the field is there)."""
+    out = {}
+    if f is not None and f["vm"] is not None:
+        out["max_von_mises_pa"] = float(np.nanmax(np.abs(f["vm"])))
+    if f is not None and f["u"] is not None:
+        out["max_displacement_m"] = float(np.nanmax(np.linalg.norm(f["u"], axis=1)))
+    return out
+
+
+def solution_globals(result_vtu_mesh, method: str) -> dict:
+    """{'globals': {method: figures}, 'fields': fields} of a solution in memory: the meshio mesh that is its
+    result.vtu (:func:`deckbridge.solve.result_mesh`; None without fields), the job's own outputs not read back."""
+    f = None if result_vtu_mesh is None else fields_of_mesh(result_vtu_mesh)
+    g = field_maxima(f)
+    return {"globals": {method: {**g, "from": "result.vtu"} if g else {}}, "fields": f}

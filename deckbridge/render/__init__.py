@@ -1,9 +1,11 @@
-"""Deck renderers: one module and one ``templates/<dialect>/`` folder per dialect of :mod:`deckbridge.dialects`.
+"""Rendering every dialect's decks (:func:`render_all`) and what the renderers share.
 
-A renderer is ``write(model, mesh, outdir) -> list[Path]``: it renders its jinja2 template(s) and
-writes the deck file(s) into ``outdir`` (a staging folder; the caller moves files atomically). The
-dialect table names each renderer; nothing registers itself here. Beside the decks,
-:func:`render_all` writes the dialect-free model VTU (:mod:`.model_vtu`) once.
+A dialect's renderer is ``deckbridge/dialects/<name>/render.py``: ``write(model, mesh, outdir) -> list[Path]``
+renders its jinja2 template(s) (``templates/<name>/``, its record's ``templates``) and writes the deck
+file(s) into ``outdir`` (a staging folder; the caller moves files atomically). Shared here: the jinja2
+environment and deck paths (:mod:`._env`), the inp-family cards (:mod:`.inp_cards`: Abaqus, CalculiX),
+the Nastran-family cards and notes (:mod:`.nastran_cards`, :mod:`.nastran_notes`: Nastran, MYSTRAN), and
+the dialect-free model VTU (:mod:`.model_vtu`) that :func:`render_all` writes once beside the decks.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
+from ..deck_elements import element_problem
 from ..dialects import DIALECTS
 from ..errors import DeckbridgeError, DeckUnsupported
 from ..mesh import SkirtMesh, build_mesh
@@ -37,7 +40,7 @@ def render_all(model: Model, outdir: str | Path, names: list[str] | None = None,
     with staged(outdir) as stage:
         for name in chosen:
             try:
-                why = DIALECTS[name].id_problem(mesh)
+                why = element_problem(name, model, mesh) or DIALECTS[name].id_problem(mesh)
                 if why:
                     raise DeckUnsupported(name, why)
                 files = DIALECTS[name].write(model, mesh, stage)

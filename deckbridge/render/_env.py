@@ -17,7 +17,6 @@ from pathlib import Path
 
 import jinja2
 
-from ..dialects import DIALECTS
 from ..outdir import safe_filename
 
 TEMPLATE_PACKAGE = "deckbridge.templates"
@@ -38,9 +37,10 @@ def template_root() -> Traversable:
 
 @lru_cache(maxsize=None)
 def environment(dialect: str) -> jinja2.Environment:
-    """A strict environment loading ``templates/<dialect>/`` then ``templates/`` (undefined variables raise)."""
+    """A strict environment loading ``templates/<dialect>/`` (or the absolute folder ``dialect``) then ``templates/``
+    (undefined variables raise)."""
     root = template_root()
-    folder = root / dialect
+    folder = Path(dialect) if Path(dialect).is_absolute() else root / dialect   # absolute: a dialect outside the package
     if not folder.is_dir():
         raise FileNotFoundError(f"template folder {dialect!r} is missing from {TEMPLATE_PACKAGE}")
 
@@ -63,6 +63,6 @@ def render(dialect: str, template: str, **context) -> str:
     return environment(dialect).get_template(template).render(**context)
 
 
-def deck_paths(dialect: str, model_name: str, outdir: str | Path) -> list[Path]:
-    """Paths in ``outdir`` of the decks of ``dialect`` for the model ``model_name`` (names checked)."""
-    return [Path(outdir) / safe_filename(n) for n in DIALECTS[dialect].deck_names(model_name)]
+def deck_paths(dialect, model_name: str, outdir: str | Path) -> list[Path]:
+    """Paths in ``outdir`` of the decks of the dialect record ``dialect`` for the model ``model_name`` (names checked)."""
+    return [Path(outdir) / safe_filename(n) for n in dialect.deck_names(model_name)]

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..deck_elements import CCX_TYPE, ccx_element_lines, face_label_lines
 from ..model import Model
 from ..numbering.inp import Layout
 from ..numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
@@ -147,17 +148,22 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
              4: lv["M_moment"][0] * s.lambda_max * m, 5: lv["M_moment"][1] * s.lambda_max * m}
     step2 = dict(zip(step2, clean(list(step2.values()), max(abs(v) for v in step2.values()))))
     n = s.increments
+    el = getattr(mesh, "element", "c3d8i")
+    eids = elem_ids(mesh, np.arange(mesh.hexes.shape[0]))
     return {
+        "skirt_type": CCX_TYPE[el],
+        "skirt_elems": (element_lines(eids, mesh_node_ids(mesh, mesh.hexes)) if el in ("c3d8i", "c3d8") else
+                        ccx_element_lines(eids, mesh_node_ids(mesh, mesh.hexes))),
+        "top_faces": (face_lines(lay.top_elems, "S2") if el in ("c3d8i", "c3d8") else
+                      face_label_lines(mesh, mesh.top_elems, elem_ids(mesh, mesh.top_elems), model.geometry.height)),
         "units": u, "unit_label": UNIT_LABEL[u.name], "nlgeom": model.analysis.nlgeom,
         "base_elems": id_lines(elem_ids(mesh, bottom_row_index(mesh))),   # EBASE: the whole row, pads or not
         "time_points": time_points(model),
         "stiffness_note": stiffness_note(model, mesh),
         "title": model.title, "name": model.name,
-        "skirt_elems": element_lines(elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)),
         "ref_node": lay.ref_node,
         "table_nodes": id_lines(mesh_node_ids(mesh, mesh.table.nodes)),
         "stop_nodes": id_lines(mesh_node_ids(mesh, mesh.stop.nodes)) if mesh.stop is not None else "",
-        "top_faces": face_lines(lay.top_elems, "S2"),
         "springs": [{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]),
                      "k_str": real(g["k"] * u.stiffness)} for g in springs],
         "E": real(model.material.E * u.stress), "nu": real(model.material.nu),

@@ -18,6 +18,7 @@ from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
 from ..outdir import safe_filename
+from ..paraview import vtk_cells
 
 SUFFIX = "_model.vtu"
 
@@ -39,7 +40,7 @@ def model_mesh(mesh: SkirtMesh):
              "stop_slave": mask(mesh.stop.nodes if mesh.stop is not None else []),
              "top_ring": mask(mesh.top_nodes)}
     cell = {"element_id": [elem_ids(mesh, np.arange(n_el)).astype(np.int32)], "bottom_row": [bottom]}
-    return meshio.Mesh(np.asarray(mesh.nodes, float), [("hexahedron", np.asarray(mesh.hexes, np.int64))],
+    return meshio.Mesh(np.asarray(mesh.nodes, float), [vtk_cells(mesh.hexes)],
                        point_data=point, cell_data=cell)
 
 

@@ -1,8 +1,8 @@
 """Explanatory header of the Nastran-family decks: units, analysis, penalty, sets (template values).
 
 The first comment line ``$ deckbridge-units: SI|mm`` is machine-readable: the readers
-(:mod:`deckbridge.readers.nastran_op2`, :mod:`deckbridge.readers.mystran_f06`) convert results
-back to SI by it (:func:`deckbridge.readers.nastran_op2.deck_units`).
+(:mod:`deckbridge.dialects.nastran.reader`, :mod:`deckbridge.dialects.mystran.reader`) convert results
+back to SI by it (:func:`deckbridge.dialects.nastran.reader.deck_units`).
 """
 
 from __future__ import annotations

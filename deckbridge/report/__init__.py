@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..dialects import solver_versions
 from ..compare.result import ComparisonResult
 from ..jsonable import json_clean
 from ..outdir import staged
@@ -61,7 +62,7 @@ def write_report(result: ComparisonResult, outdir, model=None, extra: dict | Non
     prov = provenance(model, {lab: {"analysis": options[lab], "method": s.method,
                                     "solver_options": _solver_options(records[lab])}
                               for lab, s in zip(result.labels, result.series)},
-                      ccx_ran=any(s.source == "ccx" for s in result.series))
+                      solver_versions=solver_versions({s.source for s in result.series}))
     text = render(result, figures, model=model, glob=glob, inputs=extra.get("inputs"), notes=extra.get("notes"),
                   global_png=None if gfig is None else png_bytes(gfig), path_pngs=path_pngs,
                   banners=warnings, caveats=cav_lines, provenance=prov, friction_pngs=fric_pngs)

@@ -12,8 +12,6 @@ from __future__ import annotations
 import datetime as _dt
 import hashlib
 import re
-import shutil
-import subprocess
 import sys
 from pathlib import Path
 
@@ -123,22 +121,10 @@ def caveat_lines(label: str, c: dict) -> list[str]:
     return out
 
 
-def ccx_version() -> str | None:
-    """'ccx -v' first line when CalculiX is installed."""
-    exe = shutil.which("ccx")
-    if exe is None:
-        return None
-    try:
-        r = subprocess.run([exe, "-v"], capture_output=True, text=True, timeout=10)
-    except (OSError, subprocess.SubprocessError):
-        return None
-    line = next((ln.strip() for ln in (r.stdout + r.stderr).splitlines() if "ersion" in ln), None)
-    return line
-
-
-def provenance(model=None, sources: dict | None = None, ccx_ran: bool = False) -> dict:
-    """Date (UTC), command line, model hash (sha256 of its YAML), deckbridge version, solver versions,
-    per-source analysis options."""
+def provenance(model=None, sources: dict | None = None, solver_versions: dict | None = None) -> dict:
+    """Date (UTC), command line, model hash (sha256 of its YAML), deckbridge version, solver versions
+    (``solver_versions``: {source label: version} of the external solvers whose results are compared,
+    :func:`deckbridge.dialects.solver_versions`), per-source analysis options."""
     from .html import deckbridge_version
     return {
         "date_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
@@ -146,6 +132,6 @@ def provenance(model=None, sources: dict | None = None, ccx_ran: bool = False) -
         "model_sha256": None if model is None else hashlib.sha256(model.to_yaml().encode()).hexdigest(),
         "deckbridge_version": deckbridge_version(),
         "solvers": {"reference_solver": deckbridge_version(), "python": sys.version.split()[0],
-                    **({"ccx": ccx_version()} if ccx_ran else {})},
+                    **(solver_versions or {})},
         "sources": sources or {},
     }

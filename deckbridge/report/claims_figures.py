@@ -13,7 +13,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
-from ..studies.claims import QUANTITIES
+from ..quantities import CLAIM_QUANTITIES as QUANTITIES
 from .figures import plain_text
 
 _COLOURS = {"sigma_n_wall_pa": "#1f77b4", "szz_inner_pa": "#d62728", "szz_outer_pa": "#2ca02c",

@@ -50,6 +50,13 @@ def metrics_figure(summary: dict) -> Figure:
             ax[1, 0].axhline(last / 1e6, color=col, ls="--", lw=1.0, label=f"{lab}: Lagrange")
         lf = [np.nan if d["liftoff_load_factor"] is None else d["liftoff_load_factor"] for d in pk]
         ax[1, 1].semilogx(k, lf, "o-", color=col, label=f"{lab}: penalty")
+        au = [d for d in m.get("augmented", []) if not d.get("error")]      # sweep --augmented: flat in k
+        if au:
+            ka = np.array([d["k_factor"] for d in au])
+            ax[0, 0].loglog(ka, [max(d["max_rel_diff"], 1e-16) * 100 for d in au], "s--", color=col,
+                            label=f"{lab}: augmented")
+            ax[1, 0].semilogx(ka, [d["peak_compression_pa"] / 1e6 for d in au], "s--", color=col, mfc="none",
+                              label=f"{lab}: augmented")
         if lag.get("liftoff_load_factor") is not None:
             ax[1, 1].axhline(lag["liftoff_load_factor"], color=col, ls="--", lw=1.0, label=f"{lab}: Lagrange")
     ax[0, 0].axhline(tol * 100, color="black", ls="--", lw=1.0, label=f"tol {tol * 100:g} %")

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 from ..errors import DeckbridgeError
 from ..model import MeshSpec, Model, parse_override
+from ..methods import AUGMENTED, LAGRANGE, METHODS, PENALTY, case_label
 
 CASE_FORMAT = 2                      # bump when the stored case content changes meaning (2: Lagrange with
                                      # k_t following k_n has rigid springs, the limit of its penalty cases)
@@ -100,23 +101,23 @@ class Case:
     @property
     def spec(self) -> dict:
         """Everything that defines the case's result (stored with it and hashed into its id)."""
-        pen = self.method == "penalty"
+        pen = self.method == PENALTY
         return {"format": CASE_FORMAT, "model": self.mesh.model.to_dict(), "method": self.method,
-                "k_factor": self.k_factor if pen else None,
+                "k_factor": self.k_factor if METHODS[self.method].uses_k else None,
                 "open_stiffness": self.open_stiffness if pen else None}
 
     @property
     def case_id(self) -> str:
-        tag = f"_k{_kstr(self.k_factor)}" if self.method == "penalty" else ""
+        tag = f"_k{_kstr(self.k_factor)}" if METHODS[self.method].uses_k else ""
         return f"{self.mesh.label}_{self.method}{tag}_{_hash(self.spec)}"
 
     @property
     def label(self) -> str:
-        """Curve label in comparisons: 'lagrange' or 'penalty k=0.01'."""
-        return "lagrange" if self.method == "lagrange" else f"penalty k={self.k_factor:.12g}"
+        """Curve label in comparisons: 'lagrange', 'penalty k=0.01' or 'augmented k=0.01'."""
+        return case_label(self.method, self.k_factor)
 
 
-def parse_k_factors(text: str | None, option: str = "--k-factors") -> list[float]:
+def parse_k_factors(text: str | None, option: str = "`k_factors`") -> list[float]:
     """'0.01,0.1,1' -> sorted unique positive floats; a one-line error names the bad entry."""
     if text is None or not str(text).strip():
         raise DeckbridgeError(f"{option}: give at least one penalty factor, e.g. 0.01,0.1,1,10")
@@ -142,20 +143,20 @@ def parse_mesh_options(options: list[str] | tuple[str, ...] | None) -> list[dict
     axes: dict[str, list[int]] = {}
     for opt in options or []:
         if "=" not in opt:
-            raise DeckbridgeError(f"--mesh = {opt!r}: expected KEY=V1,V2,... with KEY one of {', '.join(MESH_KEYS)}")
+            raise DeckbridgeError(f"`mesh_variants` = {opt!r}: expected KEY=V1,V2,... with KEY one of {', '.join(MESH_KEYS)}")
         key, raw = (s.strip() for s in opt.split("=", 1))
         if key.startswith("mesh."):
             key = key[5:]
         if key not in MESH_KEYS:
-            raise DeckbridgeError(f"--mesh = {opt!r}: unknown mesh key {key!r} (known: {', '.join(MESH_KEYS)})")
+            raise DeckbridgeError(f"`mesh_variants` = {opt!r}: unknown mesh key {key!r} (known: {', '.join(MESH_KEYS)})")
         if key in axes:
-            raise DeckbridgeError(f"--mesh = {opt!r}: mesh key {key!r} given twice")
+            raise DeckbridgeError(f"`mesh_variants` = {opt!r}: mesh key {key!r} given twice")
         vals = []
         for p in (x.strip() for x in raw.split(",")):
             try:
                 vals.append(int(p))
             except ValueError:
-                raise DeckbridgeError(f"--mesh = {opt!r}: {p!r} is not an integer") from None
+                raise DeckbridgeError(f"`mesh_variants` = {opt!r}: {p!r} is not an integer") from None
         axes[key] = sorted(set(vals))
     if not axes:
         return [{}]
@@ -170,17 +171,17 @@ def parse_grid_options(options: list[str] | tuple[str, ...] | None) -> list[dict
     axes: dict[str, list] = {}
     for opt in options or []:
         if "=" not in opt:
-            raise DeckbridgeError(f"--grid = {opt!r}: expected KEY=V1,V2,... with KEY a model key, "
+            raise DeckbridgeError(f"`grid` = {opt!r}: expected KEY=V1,V2,... with KEY a model key, "
                                   "e.g. contact.penalty.open_ratio=1e-12,1e-3")
         key, raw = (x.strip() for x in opt.split("=", 1))
         if key.startswith("mesh."):
-            raise DeckbridgeError(f"--grid = {opt!r}: mesh keys go to --mesh")
+            raise DeckbridgeError(f"`grid` = {opt!r}: mesh keys go to `mesh_variants`")
         if key in axes:
-            raise DeckbridgeError(f"--grid = {opt!r}: key {key!r} given twice")
+            raise DeckbridgeError(f"`grid` = {opt!r}: key {key!r} given twice")
         vals = []
         for p in (x.strip() for x in raw.split(",")):
             if not p:
-                raise DeckbridgeError(f"--grid = {opt!r}: an empty value")
+                raise DeckbridgeError(f"`grid` = {opt!r}: an empty value")
             v = parse_override(f"{key}={p}")[1]
             if v not in vals:
                 vals.append(v)
@@ -216,12 +217,16 @@ def _grid_value(model: Model, key: str):
     return node
 
 
-def sweep_cases(variants: list[MeshVariant], k_factors: list[float], open_stiffness: str = "scaled") -> list[Case]:
-    """Per variant: the Lagrange reference, then penalty at every k-factor (ascending)."""
+def sweep_cases(variants: list[MeshVariant], k_factors: list[float], open_stiffness: str = "scaled",
+                augmented: bool = False) -> list[Case]:
+    """Per variant: the Lagrange reference, then penalty at every k-factor (ascending); with ``augmented``
+    also the augmented Lagrangian at every k-factor (its curve against k: flat)."""
     if open_stiffness not in OPEN_STIFFNESS:
-        raise DeckbridgeError(f"--open-stiffness = {open_stiffness!r}: must be one of {', '.join(OPEN_STIFFNESS)}")
+        raise DeckbridgeError(f"`open_stiffness` = {open_stiffness!r}: must be one of {', '.join(OPEN_STIFFNESS)}")
     cases = []
     for v in variants:
-        cases.append(Case(v, "lagrange"))
-        cases += [Case(v, "penalty", float(k), open_stiffness) for k in sorted(k_factors)]
+        cases.append(Case(v, LAGRANGE))
+        cases += [Case(v, PENALTY, float(k), open_stiffness) for k in sorted(k_factors)]
+        if augmented:
+            cases += [Case(v, AUGMENTED, float(k)) for k in sorted(k_factors)]
     return cases

@@ -21,9 +21,9 @@ import pandas as pd
 
 from .. import summary_keys as K
 from ..azimuth import snap_deg
-from ..quantities import DEFINITIONS, sigma_n_wall, table_rows
+from ..quantities import CLAIM_QUANTITIES, DEFINITIONS, sigma_n_wall, table_rows
 
-QUANTITIES = ("sigma_n_wall_pa", "szz_inner_pa", "szz_outer_pa", "szz_mean_pa")
+QUANTITIES = CLAIM_QUANTITIES
 ZERO = 1e-6
 TIDY_COLUMNS = ["case_id", "mesh", "grid", "method", "k_factor", "load_factor", "quantity", "theta_deg",
                 "value", "unit"]

@@ -76,10 +76,10 @@ def _connect(scheduler: str, timeout_s: float):
     if t.is_alive() or "error" in box:
         _quiet_client_finalizers()
     if t.is_alive():
-        raise RunError(f"--scheduler = {scheduler!r}: no Dask scheduler answered within {timeout_s + 2.0:g} s "
+        raise RunError(f"`scheduler` = {scheduler!r}: no Dask scheduler answered within {timeout_s + 2.0:g} s "
                        "(is it a Dask scheduler address, e.g. tcp://host:8786?)")
     if "error" in box:
-        raise RunError(f"--scheduler = {scheduler!r}: cannot connect ({_first_line(box['error'])})")
+        raise RunError(f"`scheduler` = {scheduler!r}: cannot connect ({_first_line(box['error'])})")
     return box["client"]
 
 
@@ -97,10 +97,10 @@ def open_client(scheduler: str | None = None, workers: int | None = None, proces
     check_workers(workers)
     if scheduler is not None:
         if workers is not None:
-            raise DeckbridgeError(f"--workers = {workers!r} and --scheduler = {scheduler!r}: "
-                                  "the cluster at --scheduler has its own workers; give one or the other")
+            raise DeckbridgeError(f"`workers` = {workers!r} and `scheduler` = {scheduler!r}: "
+                                  "the cluster at `scheduler` has its own workers; give one or the other")
         if not isinstance(scheduler, str) or not scheduler.strip() or len(scheduler) > 300:
-            raise DeckbridgeError(f"--scheduler = {scheduler!r}: give an address such as tcp://host:8786")
+            raise DeckbridgeError(f"`scheduler` = {scheduler!r}: give an address such as tcp://host:8786")
         client = _connect(scheduler, timeout_s)
         try:
             yield client
@@ -146,9 +146,9 @@ def executor_kind(executor: str, scheduler: str | None, condensations: int) -> s
     Dask tasks then run in parallel; else the forked local workers of :mod:`.local`, which skip the
     cluster's start and send no condensed system)."""
     if executor not in EXECUTORS:
-        raise DeckbridgeError(f"--executor = {executor!r}: must be one of {', '.join(EXECUTORS)}")
+        raise DeckbridgeError(f"`executor` = {executor!r}: must be one of {', '.join(EXECUTORS)}")
     if scheduler is not None and executor == "local":
-        raise DeckbridgeError(f"--executor local and --scheduler = {scheduler!r}: give one or the other")
+        raise DeckbridgeError(f"`executor` local and `scheduler` = {scheduler!r}: give one or the other")
     if executor == "auto":
         return "dask" if scheduler is not None or condensations > 1 else "local"
     return executor

@@ -14,12 +14,13 @@ import math
 
 from .. import summary_keys as K
 from ..errors import DeckbridgeError
+from ..methods import LAGRANGE, METHODS as REGISTRY, NAMES, PENALTY
 from ..model import Model
 from ..solve import condense_model, contact_row_theta, penalty_factor, solve_path
 from .tasks import one_blas_thread
 
 EXPAND = 100.0          # search up to this many times steps.lambda_max
-METHODS = ("penalty", "lagrange")
+METHODS = (PENALTY, LAGRANGE)      # the default pair ('both'); any of deckbridge.methods.NAMES is accepted
 
 
 def _one(model: Model, mesh, system, method: str, tol: float, k_factor: float) -> dict:
@@ -34,7 +35,7 @@ def _one(model: Model, mesh, system, method: str, tol: float, k_factor: float) -
             break
         hi = min(2.0 * hi, top)
     lam = sol.liftoff_load_factor
-    out = {"method": method, "k_factor": k_factor if method == "penalty" else None,
+    out = {"method": method, "k_factor": k_factor if REGISTRY[method].uses_k else None,
            "lambda_c": lam, "theta_deg": None if lam is None else contact_row_theta(mesh, sol.liftoff_row),
            "bracket": None if lam is None else [max(0.0, lam - tol), lam],
            "tol": tol, "searched_up_to": hi, "expanded": hi > lam_max, "lambda_max": lam_max,
@@ -54,12 +55,12 @@ def critical_load(model: Model, methods: tuple[str, ...] | list[str] = METHODS, 
                   k_factor: float = 1.0) -> dict:
     """lambda_c and its azimuth per method (one condensation for all); with two methods, the difference."""
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise DeckbridgeError(f"--tol = {tol!r}: must be a positive number (absolute, in load factor)")
+        raise DeckbridgeError(f"`tol` = {tol!r}: must be a positive number (absolute, in load factor)")
     if tol >= model.steps.lambda_max:
-        raise DeckbridgeError(f"--tol = {tol!r}: must be smaller than steps.lambda_max = {model.steps.lambda_max:g}")
+        raise DeckbridgeError(f"`tol` = {tol!r}: must be smaller than steps.lambda_max = {model.steps.lambda_max:g}")
     for m in methods:
-        if m not in METHODS:
-            raise DeckbridgeError(f"--method = {m!r}: must be penalty, lagrange or both")
+        if m not in NAMES:
+            raise DeckbridgeError(f"`methods` = {m!r}: must be one of {', '.join(NAMES)}")
     kf = penalty_factor(model, k_factor)
     mesh, system = condense_model(model)
     with one_blas_thread():
@@ -69,7 +70,7 @@ def critical_load(model: Model, methods: tuple[str, ...] | list[str] = METHODS, 
            K.K_TANGENT_FOLLOWS_K: follows,
            K.BEAM_THEORY_LIFTOFF_LOAD_FACTOR: model.beam_theory_liftoff(),
            "base_moment_nm_at_lambda_1": model.base_moment, "methods": list(methods), **res}
-    if len(methods) == 2:
+    if PENALTY in res and LAGRANGE in res:
         a, b = (res[m]["lambda_c"] for m in METHODS)
         out["difference"] = None if a is None or b is None else {
             "penalty_minus_lagrange": a - b, "relative_to_lagrange": (a - b) / b if b else None}
@@ -84,7 +85,7 @@ def format_table(result: dict) -> str:
         lam = "none" if r["lambda_c"] is None else f"{r['lambda_c']:.5f}"
         th = "-" if r["theta_deg"] is None else f"{r['theta_deg']:.1f}"
         mb = "-" if r["base_moment_at_lambda_c_nm"] is None else f"{r['base_moment_at_lambda_c_nm']:.4g}"
-        name = m if m == "lagrange" else f"penalty (k x {r['k_factor']:g})"
+        name = m if r["k_factor"] is None else f"{m} (k x {r['k_factor']:g})"
         lines.append(f"{name:<18} {lam:>10} {th:>12} {mb:>12}  {r['message'] or ''}".rstrip())
     d = result.get("difference")
     if d is not None:

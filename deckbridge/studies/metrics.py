@@ -29,6 +29,7 @@ from ..jsonable import json_clean
 from ..compare.series import series_of
 from ..results import SourceResult
 from .cases import Case, MeshVariant
+from ..methods import AUGMENTED, LAGRANGE, PENALTY
 
 SIG_DIGITS = 10        # floats in summary.json: stable across re-runs, far below any physical meaning
 
@@ -48,6 +49,7 @@ class VariantResult:
     rows: list[dict]
     recommended_k_factor: float | None
     errors: dict = field(default_factory=dict)
+    augmented: list[dict] = field(default_factory=list)   # per k-factor, as per_k (flat: it is exact at any k)
 
 
 def _table_stats(df: pd.DataFrame) -> dict:
@@ -68,8 +70,9 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
     """
     series = series or {}
     of = lambda c: series[c.case_id] if c.case_id in series else series_of(tables[c.case_id], c.label)  # noqa: E731
-    lag = next(c for c in cases if c.method == "lagrange")
-    pens = sorted((c for c in cases if c.method == "penalty"), key=lambda c: c.k_factor)
+    lag = next(c for c in cases if c.method == LAGRANGE)
+    pens = sorted((c for c in cases if c.method == PENALTY), key=lambda c: c.k_factor)
+    augs = sorted((c for c in cases if c.method == AUGMENTED), key=lambda c: c.k_factor)
     errors = {c.label: records[c.case_id]["error"] for c in cases if records[c.case_id].get("error")}
     lrec = records[lag.case_id]
     lagrange = {"case_id": lag.case_id, "error": lrec.get("error")}
@@ -78,7 +81,7 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
                   or "no Lagrange reference on this mesh", "within_tol": False} for c in pens]
         return VariantResult(variant, None, lagrange, per_k, [], None, errors)
 
-    ok = [c for c in pens if not records[c.case_id].get("error")]
+    ok = [c for c in pens + augs if not records[c.case_id].get("error")]
     # with each case's solver summary the onsets are the solver's exact ones, the numbers summary.json gives
     comp = compare_series([of(lag)] + [of(c) for c in ok], load_factors,
                           {c.label: SourceResult(tables[c.case_id], summary=records[c.case_id].get("summary"))
@@ -96,17 +99,17 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
     rows, per_k = [], []
     for pt in comp.points:
         lp = pt.peaks[lag.label]
-        rows.append({"mesh": variant.label, "method": "lagrange", "k_factor": None, "case_id": lag.case_id,
+        rows.append({"mesh": variant.label, "method": LAGRANGE, "k_factor": None, "case_id": lag.case_id,
                      "load_factor": pt.load_factor, "what": pt.what, "max_abs_diff_pa": None, "rel_diff": None,
                      "theta_of_max_diff_deg": None, "rms_diff_pa": None, "liftoff_zone_iou": None,
                      "peak_compression_pa": lp[0], "peak_compression_theta_deg": lp[1],
                      "lagrange_peak_compression_pa": lp[0], "within_tol": None,
                      "liftoff_load_factor": ls["liftoff_load_factor"], "liftoff_theta_deg": ls["liftoff_theta_deg"]})
-    for c in pens:
+    def versus(c: Case, per_k: list) -> None:
         rec = records[c.case_id]
         if rec.get("error"):
             per_k.append({"k_factor": c.k_factor, "case_id": c.case_id, "error": rec["error"], "within_tol": False})
-            continue
+            return
         s = rec["summary"]
         kstat = (s.get("penalty_k") or {}).get("table") or {}
         by_lf = []
@@ -123,7 +126,7 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
                     "peak_compression_theta_deg": pt.peaks[c.label][1],
                     "lagrange_peak_compression_pa": pt.peaks[lag.label][0], "within_tol": bool(rel <= tol)}
             by_lf.append(item)
-            rows.append({"mesh": variant.label, "method": "penalty", "k_factor": c.k_factor, "case_id": c.case_id,
+            rows.append({"mesh": variant.label, "method": c.method, "k_factor": c.k_factor, "case_id": c.case_id,
                          **item, "liftoff_load_factor": s["liftoff_load_factor"],
                          "liftoff_theta_deg": s["liftoff_theta_deg"]})
         worst = max(by_lf, key=lambda d: d["rel_diff"])
@@ -139,8 +142,13 @@ def variant_metrics(variant: MeshVariant, cases: list[Case], tables: dict[str, p
             "liftoff_load_factor": s["liftoff_load_factor"], "liftoff_theta_deg": s["liftoff_theta_deg"],
             "within_tol": all(d["within_tol"] for d in by_lf), "by_load_factor": by_lf,
         })
+    for c in pens:
+        versus(c, per_k)
+    augmented: list[dict] = []
+    for c in augs:
+        versus(c, augmented)
     passing = [d["k_factor"] for d in per_k if d["within_tol"]]
-    return VariantResult(variant, comp, lagrange, per_k, rows, min(passing) if passing else None, errors)
+    return VariantResult(variant, comp, lagrange, per_k, rows, min(passing) if passing else None, errors, augmented)
 
 
 def monotone(values: list[float]) -> bool:

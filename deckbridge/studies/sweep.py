@@ -67,20 +67,20 @@ CSV_COLUMNS = ["mesh", "method", "k_factor", "load_factor", "what", "max_abs_dif
 def check_options(k_factors, tol, open_stiffness, strategy, model: Model, load_factors=None) -> None:
     """Refuse bad options with one line, before anything is computed or written."""
     if not k_factors:
-        raise DeckbridgeError("--k-factors: give at least one penalty factor")
+        raise DeckbridgeError("`k_factors`: give at least one penalty factor")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
-        raise DeckbridgeError(f"--tol = {tol!r}: must be a fraction in (0, 1), e.g. 0.02 for 2 %")
+        raise DeckbridgeError(f"`tol` = {tol!r}: must be a fraction in (0, 1), e.g. 0.02 for 2 %")
     if open_stiffness not in OPEN_STIFFNESS:
-        raise DeckbridgeError(f"--open-stiffness = {open_stiffness!r}: must be one of {', '.join(OPEN_STIFFNESS)}")
+        raise DeckbridgeError(f"`open_stiffness` = {open_stiffness!r}: must be one of {', '.join(OPEN_STIFFNESS)}")
     if strategy not in STRATEGIES:
         raise DeckbridgeError(f"strategy = {strategy!r}: must be one of {', '.join(STRATEGIES)}")
     for lf in load_factors or []:
         if not (isinstance(lf, (int, float)) and 0 <= lf <= model.steps.lambda_max):
-            raise DeckbridgeError(f"--load-factor = {lf!r}: must be within [0, steps.lambda_max = "
+            raise DeckbridgeError(f"`load_factors` = {lf!r}: must be within [0, steps.lambda_max = "
                                   f"{model.steps.lambda_max:g}]")
     ratio = model.contact.penalty.open_ratio
     if open_stiffness == "fixed" and min(k_factors) <= ratio:
-        raise DeckbridgeError(f"--k-factors: {min(k_factors):g} with --open-stiffness fixed would make the closed "
+        raise DeckbridgeError(f"`k_factors`: {min(k_factors):g} with `open_stiffness` fixed would make the closed "
                               f"stiffness no larger than the open one (contact.penalty.open_ratio = {ratio:g})")
 
 
@@ -206,8 +206,9 @@ def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: 
               tol: float = 0.02, load_factors: list[float] | None = None, open_stiffness: str = "scaled",
               client=None, strategy: str = "split", progress: bool = True,
               on_case_stored: Callable[[Case], None] | None = None, report: bool = True,
-              grid: list[dict] | None = None, claim_load_factor: float | None = None) -> dict:
+              grid: list[dict] | None = None, claim_load_factor: float | None = None, augmented: bool = False) -> dict:
     """Run (or resume) the sweep into ``outdir``; returns {'summary', 'run', 'paths', 'variants', 'claims'}.
+    ``augmented``: also the augmented Lagrangian at every k-factor (summary 'augmented' per mesh: flat in k).
 
     ``grid``: points of other model keys (see :func:`.cases.parse_grid_options`); ``claim_load_factor``:
     the lambda at which the claims are judged (default min(1, steps.lambda_max))."""
@@ -217,7 +218,7 @@ def run_sweep(model: Model, k_factors: list[float], outdir: str | Path, meshes: 
     lam = min(1.0, model.steps.lambda_max) if claim_load_factor is None else float(claim_load_factor)
     check_options(k_factors, tol, open_stiffness, strategy, model, [lam])
     variants = mesh_variants(model, meshes, grid)
-    cases = sweep_cases(variants, k_factors, open_stiffness)
+    cases = sweep_cases(variants, k_factors, open_stiffness, augmented)
     prepare(outdir)
     store = CaseStore(outdir)
     run_id = uuid.uuid4().hex[:12]
@@ -314,6 +315,7 @@ def make_summary(model: Model, variants, results: list[VariantResult], k_factors
             "mesh": v.label, "grid": dict(v.grid), "n_theta": m.n_theta, "n_z": m.n_z, "n_r": m.n_r, "overrides": dict(v.overrides),
             "compared_load_factors": [] if r.comparison is None else [p.load_factor for p in r.comparison.points],
             "lagrange": r.lagrange, "penalty": r.per_k, "recommended_k_factor": r.recommended_k_factor,
+            **({"augmented": r.augmented} if r.augmented else {}),
             "max_rel_diff_never_grows_with_k": monotone([d["max_rel_diff"] for d in r.per_k if not d.get("error")]),
             "errors": r.errors,
         })

@@ -18,6 +18,7 @@ import pandas as pd
 
 from .. import summary_keys as K
 from ..errors import DeckbridgeError
+from ..methods import PENALTY
 from ..model import Model
 
 
@@ -79,12 +80,12 @@ def _bind(cond: Condensed, model: Model):
 
 def _system_for(system, method: str, k_factor: float, open_stiffness: str):
     """The system whose problem gives the open-gap stiffness the case asks for."""
-    if method != "penalty" or open_stiffness == "scaled":
+    if method != PENALTY or open_stiffness == "scaled":
         return system
     p = system.problem
     ratio = p.k_open_ratio / k_factor          # KB = open_ratio * k_c at every k-factor
     if not 0 < ratio < 1:
-        raise DeckbridgeError(f"--open-stiffness fixed with k-factor {k_factor:g}: the open stiffness "
+        raise DeckbridgeError(f"`open_stiffness` fixed with k-factor {k_factor:g}: the open stiffness "
                               f"(open_ratio {p.k_open_ratio:g} x k_c) would not be below the closed one")
     return dataclasses.replace(system, problem=dataclasses.replace(p, k_open_ratio=ratio))
 
@@ -120,7 +121,7 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
         raise DeckbridgeError(f"model {model.name!r}, {method}: {type(exc).__name__}: {exc}") from None
     summary[K.K_TANGENT_FOLLOWS_K] = bool(system.problem.kt_follows_k)
     summary["k_tangent_rigid"] = bool(system.info.get("spring_limit", False))
-    if method == "penalty":
+    if method == PENALTY:
         summary["open_stiffness"] = open_stiffness
         summary["k_open_ratio_used"] = float(system.problem.k_open_ratio)
     prov = {"wall_time_s": time.perf_counter() - t0, "condense_s": cond.condense_s,

@@ -1,0 +1,74 @@
+"""Which dialect can carry which element type of the skirt (issue 23), and the inp cards that depend on it.
+
+``element_problem(dialect, model, mesh)``: one line saying why a dialect's decks cannot carry the mesh's
+element type (:class:`deckbridge.errors.DeckUnsupported` in :func:`deckbridge.render.render_all`; ``decks``
+and ``run`` leave the dialect out with that note), None when they can. Rules:
+- hex8i (C3D8I): every dialect, unchanged;
+- a node-based contact law on a quadratic face (8-node quadrilateral, 6-node triangle) is refused, never
+  written: a uniform pressure gives the corner nodes -1/12 (8-node) or 0 (6-node) of its load, so a sign
+  condition on nodal forces (Nastran/MYSTRAN CGAP, ccx node-to-surface and GAPUNI, Abaqus node-to-surface)
+  opens the corners at zero load. CalculiX writes its mortar deck only (``*CONTACT PAIR, TYPE=MORTAR``, no
+  SPC on slave nodes), and only without the radial stop (its GAPUNI gaps are node-based);
+- hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
+- tet4 and the Nastran CHEXA20/CTETRA10/CPENTA15 decks: not written yet (one line saying so).
+CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from reference_solver.elements import element_type
+
+CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20R", "c3d10": "C3D10",
+            "c3d15": "C3D15", "c3d4": "C3D4"}
+CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
+NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps", "abaqus": "node-to-surface contact"}
+
+
+def element_problem(dialect: str, model, mesh) -> str | None:
+    """Why ``dialect``'s decks cannot carry the element type of ``mesh`` (one line), or None."""
+    el = getattr(mesh, "element", "c3d8i")
+    if el == "c3d8i":
+        return None
+    key = f"mesh.element = {model.mesh.element}"
+    if getattr(mesh, "quadratic_faces", False):
+        if dialect == "calculix":
+            if mesh.stop is not None:
+                return (f"{key}: the radial stop is GAPUNI gaps (node-based), wrong on 8-/6-node faces (corner "
+                        "nodes carry -1/12 or 0 of a pressure and open at zero load): set contact.stop.side: "
+                        "none for the CalculiX mortar deck")
+            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
+        if dialect == "nastran_surface":
+            return (f"{key}: the surface-contact deck writes 8-node CHEXA cards only so far (no mid-side "
+                    "nodes): use the calculix dialect (mortar deck)")
+        why = NODE_BASED.get(dialect, "its contact")
+        return (f"{key}: a node-based law ({why}) opens the corner nodes of 8-/6-node faces at zero load "
+                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar deck)")
+    if el == "c3d8" and dialect in ("calculix", "abaqus"):
+        return None
+    return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
+
+
+def ccx_element_lines(ids, conn) -> str:
+    """``*ELEMENT`` data lines ``id, n1, ..., nk``, continued on the next line after 16 entries."""
+    out = []
+    for e, c in zip(ids, conn):
+        entries = [str(int(e))] + [str(int(n)) for n in c]
+        chunks = [entries[k:k + CCX_PER_LINE] for k in range(0, len(entries), CCX_PER_LINE)]
+        out.append(",\n".join(", ".join(ch) for ch in chunks))
+    return "\n".join(out)
+
+
+def face_label_lines(mesh, elems: np.ndarray, ids: np.ndarray, z: float) -> str:
+    """Element-based ``*SURFACE`` lines ``id, Sk`` of the faces of cells ``elems`` (indices; deck ids ``ids``)
+    whose nodes all lie at height ``z`` [m] (1e-9 of the height): k = the face's place in the element's face
+    order (CalculiX's S1, S2, ...)."""
+    et = element_type(mesh.element)
+    on = np.abs(mesh.nodes[:, 2] - z) <= 1e-9 * np.ptp(mesh.nodes[:, 2])
+    lines = []
+    for e, eid in zip(np.asarray(elems, np.int64), ids):
+        for f, local in enumerate(et.faces):
+            if on[mesh.hexes[e, list(local)]].all():
+                lines.append(f"{int(eid)}, S{f + 1}")
+    return "\n".join(lines)

@@ -1,0 +1,207 @@
+"""CalculiX 2.20 files of the deckbridge decks: the deck's ``** deckbridge-...`` slave table and job metadata,
+the ``.dat`` ``*NODE PRINT`` / ``*CONTACT PRINT`` blocks and the ``.frd`` DISP/CONTACT blocks, as written
+(deck units; :mod:`.reader` scales them to SI and assembles the contact table).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import DeckbridgeError
+from ...mesh import build_mesh
+from ...numbering.skirt import mesh_node_ids
+from ...errors import read_text
+from ...readers._files import INP_UNITS_TAG
+
+_DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
+_DAT_CONTACT = re.compile(r"^\s*contact stress \(slave node,press,tang1,tang2\) for all contact elements and time\s+(\S+)")
+_DAT_CDIS = re.compile(r"^\s*relative contact displacement \(slave node,normal,tang1,tang2\) for all contact elements "
+                       r"and time\s+(\S+)")
+_META_N2F = "** deckbridge-n2f "
+_META_UNITS = INP_UNITS_TAG
+_META_JOB = "** deckbridge-job"
+_META_SLAVE = "** deckbridge-slave "
+_META_F2F = "** deckbridge-f2f-master "      # face-to-face deck: table slave node, master node under it
+
+
+# --- slave table -------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Slaves:
+    """One row per slave (node, surface): geometry and what turns forces into stresses."""
+    node: np.ndarray
+    surface: np.ndarray
+    theta: np.ndarray
+    r: np.ndarray
+    z: np.ndarray
+    area: np.ndarray
+    normal: np.ndarray      # (n, 3)
+    clearance: np.ndarray
+
+
+def _slaves_from_model(model, mesh=None) -> Slaves:
+    mesh = mesh if mesh is not None else build_mesh(model)
+    sets = mesh.slave_sets
+    cat = lambda f: np.concatenate([f(s) for s in sets])  # noqa: E731
+    return Slaves(node=cat(lambda s: mesh_node_ids(mesh, s.nodes)), surface=cat(lambda s: np.full(s.nodes.size, s.surface)),
+                  theta=cat(lambda s: s.theta_deg), r=cat(lambda s: s.r), z=cat(lambda s: s.z),
+                  area=cat(lambda s: s.area), normal=np.vstack([s.normal for s in sets]),
+                  clearance=cat(lambda s: s.clearance))
+
+
+def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
+    """Job metadata, slave table and GAPUNI (slave, ground) pairs of a deckbridge ccx deck.
+
+    Node-to-surface penalty decks add ``job["n2f_order"]`` ((node, surface) in contact-pair order) and
+    ``job["n2f_area"]`` ({(node, surface): ccx's slave area [m^2]}); ``job["units"]`` the deck units.
+    """
+    job: dict = {}
+    rows = []
+    gaps: dict[tuple[int, str], int] = {}
+    if not inp.is_file():
+        return job, None, gaps
+    lines = read_text(inp).splitlines()
+    in_gap = in_node_surface = False
+    order, area = [], {}
+    for line in lines:
+        if line.startswith(_META_JOB):
+            job.update(kv.split("=", 1) for kv in line[len(_META_JOB):].split() if "=" in kv)
+        elif line.startswith(_META_UNITS):
+            job["units"] = line[len(_META_UNITS):].strip()
+        elif line.startswith(_META_N2F) and not line.startswith(_META_N2F + "node"):
+            n, surf, a = line[len(_META_N2F):].split()[:3]
+            area[(int(n), surf)] = float(a)
+        elif line.startswith(_META_F2F) and not line.startswith(_META_F2F + "slave"):
+            slave, master = (int(v) for v in line[len(_META_F2F):].split()[:2])
+            gaps[(slave, "table")] = master          # its RF is the slave's force, as a grounded gap node's
+        elif line.startswith(_META_SLAVE) and not line.startswith(_META_SLAVE + "node"):
+            rows.append(line[len(_META_SLAVE):].split())
+        elif line.startswith("*"):
+            up = line.upper().replace(" ", "")
+            in_gap = up.startswith("*ELEMENT") and "TYPE=GAPUNI" in up
+            m = re.search(r"ELSET=GAP_(TABLE|STOP)_", up)
+            surface = m.group(1).lower() if (in_gap and m) else None
+            ns = re.match(r"\*SURFACE,NAME=SLAVE_(TABLE|STOP)\d+,TYPE=NODE$", up)
+            in_node_surface = ns is not None
+            if ns:
+                n2f_surface = ns.group(1).lower()
+        elif in_gap and line.strip():
+            _, slave, ground = (int(v) for v in line.split(",")[:3])
+            gaps[(slave, surface)] = ground
+        elif in_node_surface and line.strip() and not line.startswith("**"):
+            order.append((int(line.split(",")[0]), n2f_surface))
+    if order:
+        job["n2f_order"], job["n2f_area"] = order, area
+    slaves = None
+    if rows:
+        try:
+            a = np.array([[float(v) for v in (r[:1] + r[2:])] for r in rows])
+        except ValueError:
+            raise DeckbridgeError(f"{str(inp)!r}: malformed '** deckbridge-slave' line") from None
+        slaves = Slaves(node=a[:, 0].astype(np.int64), surface=np.array([r[1] for r in rows]), theta=a[:, 1],
+                        r=a[:, 2], z=a[:, 3], area=a[:, 4], normal=a[:, 5:8], clearance=a[:, 8])
+    return job, slaves, gaps
+
+
+# --- ccx files ----------------------------------------------------------------------------------------
+def _dat_blocks(path: Path) -> list[dict]:
+    """``*NODE PRINT`` blocks of a ccx ``.dat``: kind, set, time, {node: (3,) values}, {node: line number}
+    (contact blocks also ``rows`` [(node, values)] and ``row_lines``, in file order: ``contact`` the CSTR
+    block, ``contact_gap`` the CDIS block, whose ``normal`` is ccx's own clearance, > 0 open)."""
+    blocks, cur = [], None
+    for line_no, line in enumerate(read_text(path).splitlines(), 1):
+        m = _DAT_HEAD.match(line)
+        if m:
+            cur = {"kind": m.group(1), "set": m.group(2).upper(), "time": float(m.group(3)), "values": {},
+                   "line": {}}
+            blocks.append(cur)
+            continue
+        m = _DAT_CONTACT.match(line) or _DAT_CDIS.match(line)
+        if m:
+            cur = {"kind": "contact" if m.re is _DAT_CONTACT else "contact_gap", "set": "",
+                   "time": float(m.group(1)), "values": {}, "line": {}, "rows": [], "row_lines": []}
+            blocks.append(cur)
+            continue
+        parts = line.split()
+        if cur is None or not parts:
+            continue
+        if len(parts) == 4 and parts[0].isdigit():
+            try:
+                v = np.array([float(x) for x in parts[1:]])
+                cur["values"][int(parts[0])] = v
+                cur["line"][int(parts[0])] = line_no
+                if "rows" in cur:
+                    cur["rows"].append((int(parts[0]), v))
+                    cur["row_lines"].append(line_no)
+            except ValueError:
+                raise DeckbridgeError(f"{str(path)!r}: line {line_no}: unreadable {line.strip()!r}") from None
+        elif parts[0].isdigit():      # a node's row with a value too many or too few: not the end of the block
+            raise DeckbridgeError(f"{str(path)!r}: line {line_no}: {len(parts) - 1} values where the block has 3 "
+                                  f"({line.strip()[:80]!r})")
+        else:
+            cur = None
+    return blocks
+
+
+_LAST_FRD: list = []     # (key, parsed) of the last .frd parsed: the reader and the ParaView series share it
+
+
+def _frd_blocks(path: Path) -> tuple[dict, list[dict]]:
+    """Node coordinates and DISP/CONTACT result blocks of an ASCII ``.frd`` (read-only: shared).
+
+    Each block: name, step, inc (ccx increment within the step), time, {node: values}, {node: line number}.
+    A job's ``.frd`` is parsed once: the last file parsed is kept (same path, size and modification time)
+    for the next caller (the ``run --with calculix`` contact table, then its ParaView series).
+    """
+    try:
+        st = Path(path).stat()
+        key = (str(Path(path).resolve()), st.st_size, st.st_mtime_ns)
+    except OSError:
+        key = None
+    if key is not None and _LAST_FRD and _LAST_FRD[0] == key:
+        return _LAST_FRD[1]
+    parsed = _parse_frd(path)
+    _LAST_FRD[:] = [key, parsed] if key is not None else []
+    return parsed
+
+
+def _parse_frd(path: Path) -> tuple[dict, list[dict]]:
+    coords: dict[int, np.ndarray] = {}
+    blocks: list[dict] = []
+    try:
+        fh = open(path, errors="replace")
+    except OSError as exc:
+        raise DeckbridgeError(f"{str(path)!r}: cannot read ({exc.strerror})") from None
+    with fh:
+        mode, cur, step, inc, time, width = None, None, 0, 0, 0.0, 10
+        for line_no, line in enumerate(fh, 1):
+            if line.startswith("    2C"):
+                mode, width = "coords", (5 if line.split()[-1] == "0" else 10)
+            elif line.startswith("    1PSTEP"):
+                f = line.split()
+                inc, step = int(f[2]), int(f[3])
+            elif line.startswith("  100C"):
+                time = float(line[12:24])
+                width = 5 if line.split()[-1] == "0" else 10
+            elif line.startswith(" -4 "):
+                cur = {"name": line[5:13].strip(), "step": step, "inc": inc, "time": time, "values": {}, "line": {}}
+                blocks.append(cur)
+                mode = "result"
+            elif line.startswith(" -3"):
+                mode, cur = None, None
+            elif line.startswith(" -1") and mode is not None:
+                try:
+                    node = int(line[3:3 + width])
+                    body = line[3 + width:].rstrip("\n")
+                    vals = np.array([float(body[i:i + 12]) for i in range(0, len(body.rstrip()), 12)])
+                except ValueError:
+                    raise DeckbridgeError(f"{str(path)!r}: line {line_no}: unreadable {line.strip()!r}") from None
+                if mode == "coords":
+                    coords[node] = vals
+                else:
+                    cur["values"][node] = vals
+                    cur["line"][node] = line_no
+    return coords, blocks

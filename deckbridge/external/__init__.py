@@ -1,1 +1,0 @@
-"""Runners of external solvers (MYSTRAN, CalculiX) on decks written by deckbridge."""

@@ -1,0 +1,39 @@
+"""Positive nodal areas of element faces of any type (issue 23): HRZ-lumped face mass matrices.
+
+A leaf of the base layer (numpy and the reference solver's face rules only), shared by the mesh data
+(:func:`deckbridge.mesh_data.base_wall_areas`) and the any-order skirt builder (:mod:`deckbridge.mesh_order`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import reference_solver as rs
+from reference_solver.elements import element_type
+
+
+def hrz_areas(faces, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Positive nodal areas [m^2] of a surface ``faces`` [(face type, conn), ...]: the diagonal of each
+    face's consistent M scaled to its area (HRZ lumping; the row sums of 8- and 6-node faces are <= 0 at
+    the corners). Returns (surface nodes ascending, areas)."""
+    from reference_solver.face_weights import face_mass
+    surf = np.unique(np.concatenate([c.ravel() for _, c in faces]))
+    area = np.zeros(nodes.shape[0])
+    for ftype, conn in faces:
+        M = face_mass(ftype, nodes[conn])
+        d = np.einsum("faa->fa", M)
+        np.add.at(area, conn.ravel(), (d * (M.sum(axis=(1, 2)) / d.sum(axis=1))[:, None]).ravel())
+    return surf, area[surf]
+
+
+def base_face_areas(nodes: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """Nodal areas [m^2] (n,) of the faces of ``cells`` (m, k: 4, 10, 15 or 20 nodes, CalculiX order) that lie
+    on their lowest plane (z within 1e-9 of the height span): :func:`hrz_areas`, positive, summing to the area."""
+    from reference_solver.face_weights import surface_faces
+    et = element_type({4: "c3d4", 10: "c3d10", 15: "c3d15", 20: "c3d20"}[cells.shape[1]])
+    z = nodes[:, 2]
+    on = z <= z[np.unique(cells)].min() + 1e-9 * max(float(np.ptp(z)), 1e-300)
+    surf, area = hrz_areas(tuple(surface_faces((rs.ElementBlock(et, cells),), on)), nodes)
+    out = np.zeros(nodes.shape[0])
+    out[surf] = area
+    return out
