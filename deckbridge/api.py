@@ -45,7 +45,7 @@ def _check_method(method: str) -> None:
 
 def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alpha: float | None = None,
           algorithm: str | None = None, on_increment: Callable[[int, int, float], None] | None = None,
-          ) -> Solution:
+          mesh=None) -> Solution:
     """Solve ``model`` with the reference solver and one contact method; what ``deckbridge solve`` computes.
 
     ``method``: 'penalty' (gap springs k_c = alpha A^2 K / V per node, CGAP/PGAP semantics) or 'lagrange'
@@ -53,7 +53,8 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
     replaces contact.penalty.alpha. Lagrange only: ``algorithm`` 'active-set' (default) or 'gauss-seidel'.
     ``on_increment(step, increment, lambda)`` reports progress. The load path: step 1 N, step 2 N +
     lambda (T, M) up to steps.lambda_max, liftoff onsets bisected. Fields for :meth:`Solution.to_paraview`
-    are recovered when ``model.outputs.vtu`` is true.
+    are recovered when ``model.outputs.vtu`` is true. ``mesh``: the model's mesh when already built
+    (:func:`deckbridge.mesh.build_mesh`), else built here.
     """
     from .solve import bind, condense_timed, solve_bound
     from .wall_stress import reference_section_onset
@@ -64,7 +65,7 @@ def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alph
                               "stiffness)")
     if algorithm is not None and algorithm not in REGISTRY[method].algorithms:
         raise DeckbridgeError(f"algorithm = {algorithm!r}: only for method lagrange")
-    mesh, system, t0 = condense_timed(model, k_factor, alpha)
+    mesh, system, t0 = condense_timed(model, k_factor, alpha, mesh)
     kf, system = bind(model, system, method, k_factor, alpha)          # the penalty factor and springs, once
     df, summary, sol, system = solve_bound(model, mesh, system, kf, method, algorithm=algorithm,
                                            on_increment=on_increment, recover=model.outputs.vtu)

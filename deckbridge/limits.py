@@ -38,16 +38,24 @@ QUICK_BASE_BYTES = 250 * 2**20   # reference_solver.estimate.BASE_BYTES (not imp
 DENSE_BYTES = 10 * 8         # about ten nr x nr float64 arrays of the condensed contact problem [bytes/entry]
 SYMBOLIC_MAX_DOFS = 30e6     # above: refused on the quick estimate alone (the symbolic analysis itself would take GBs)
 # VTU stage (outputs.vtu), per element: the (8 Gauss points, 6, 24) float64 strain operator of
-# reference_solver.stress.gauss_strain_operator, built with about three such arrays alive at once
+# Element.gauss_strain_operator, built with about three such arrays alive at once, for one chunk of
+# STRESS_CHUNK elements at a time (reference_solver.recover.STRESS_CHUNK, 8192: about 0.23 GB)
 STRAIN_OPERATOR_BYTES = 8 * 6 * 24 * 8
-STRAIN_OPERATOR_COPIES = 3.0      # measured 2.3-3.05 (bench/README.md); the code holds up to 3.4 at once
+STRAIN_OPERATOR_COPIES = 4.0      # the chunk's operator, its B_u, B_a and the states' strains (fitted, see below)
+# every state's VTU data is held until the files are written: per node displacement 3, contact 8 (2
+# surfaces), tangential and friction 4, nodal stress and von Mises 7, the writer's copies; per element
+# stress and von Mises. Fitted on `deckbridge solve` at 102k and 205k dof after the stress recovery went
+# by chunks (peak 899 and 1492 MiB): about 29 floats per node and state.
+STATE_POINT_FLOATS = 29
+STATE_CELL_FLOATS = 7
+STRESS_CHUNK = 8192               # reference_solver.recover.STRESS_CHUNK (not imported: a test checks they agree)
 # the symbolic estimate's other terms (solve_estimate), fitted on the measured peaks of bench/memory_guard.py
 PROCESS_BYTES = 170 * 2**20        # interpreter, NumPy/SciPy/pandas/CHOLMOD, deckbridge
 FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and CHOLMOD's workspace
 SPLIT_BYTES_PER_NODE = 230 * 27    # node-pair blocks, their indices and the permuted CSC triangle
 PATH_DENSE_ARRAYS = 6.5            # nr x nr float64 arrays alive at once on the load path (Schur, contact)
 VTU_DENSE_ARRAYS = 4               # ... still held while the VTUs are written
-ESTIMATE_MARGIN = 1.05             # for what the fit does not hold (allocator, the other method): 1.08-1.19 x measured
+ESTIMATE_MARGIN = 1.05             # for what the fit does not hold (allocator, the other method): 1.08-1.14 x measured
 ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
 MAX_K_FACTORS = 100
 MAX_CASES = 2000             # cases of one study (mesh variants x (k-factors + 1))
@@ -135,15 +143,15 @@ def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: in
     dofs and a factor of ``factor_entries`` entries, writing ``states`` VTUs when ``vtu``: the largest of
     the split (K as node-pair blocks and its permuted triangle), the load path (the factor, about
     PATH_DENSE_ARRAYS nr x nr arrays) and the VTU stage (the factor still held, every state's fields, the
-    strain operator being built). Monotone in every argument. Fitted on `deckbridge solve` (penalty) at
-    100k dof, five proportions (bench/README.md): estimate / measured peak 1.08-1.19."""
+    strain operator of one chunk of elements being built). Monotone in every argument. Fitted on `deckbridge solve` (penalty) at
+    100k dof, five proportions, and 205k (bench/README.md): estimate / measured peak 1.08-1.14."""
     n, N, nr2 = int(n_nodes), 3 * int(n_nodes), float(n_retained) ** 2
     base = PROCESS_BYTES + 200 * n + 130 * n_hex                 # interpreter and libraries, mesh, problem
     factor = FACTOR_BYTES_PER_ENTRY * float(factor_entries)
     parts = {"split": base + SPLIT_BYTES_PER_NODE * n, "load_path": base + factor + PATH_DENSE_ARRAYS * 8 * nr2}
     if vtu:
-        fields = states * 8 * (N + 7 * n + 7 * n_hex)          # displacements, nodal and cell stresses per state
-        operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * n_hex
+        fields = states * 8 * (STATE_POINT_FLOATS * n + STATE_CELL_FLOATS * n_hex)     # every state's VTU data
+        operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * min(n_hex, STRESS_CHUNK)
         parts["vtu"] = base + factor + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator
     return Estimate(ESTIMATE_MARGIN * max(parts.values()), N, int(n_retained), int(factor_entries), parts)
 
@@ -195,7 +203,8 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
 
     The quick arithmetic bound first (refuses n_theta = 10^6 in microseconds); when it does not fit, the
     estimate from the mesh's symbolic factorisation decides (:func:`symbolic_estimate`, ``mesh`` when
-    already built), so that a model that fits is not refused on the bound alone.
+    already built, or a function building it, called only then), so that a model that fits is not refused
+    on the bound alone.
     """
     m = model.mesh
     n = model_dofs(model)
@@ -211,7 +220,8 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
     have = available_bytes()
     need, how = copies * quick_estimate(model, n), "arithmetic bound"
     if have is not None and need > have and n <= SYMBOLIC_MAX_DOFS and copies * FLOOR_BYTES_PER_DOF * n <= have:
-        need, how = copies * symbolic_estimate(model, mesh).bytes, "from its symbolic factorisation"
+        need, how = copies * symbolic_estimate(model, mesh() if callable(mesh) else mesh).bytes, \
+            "from its symbolic factorisation"
     if have is not None and need > have:
         each = f" ({copies} at once)" if copies > 1 else ""
         raise InputError(f"{_mesh_name(model)}{what}: {n:,} dofs need about {need / 1e9:.3g} GB{each} ({how}), "

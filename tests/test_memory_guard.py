@@ -81,3 +81,40 @@ def test_gram_lower_is_exactly_symmetric_and_equals_l_lt():
         C = gram_lower(L, block=block)
         assert np.array_equal(C, C.T)
         np.testing.assert_allclose(C, L @ L.T, rtol=1e-13, atol=1e-12 * max(1, m))
+
+
+def test_solve_command_builds_the_mesh_once_when_the_guard_needs_it(monkeypatch, tmp_path):
+    """The guard's symbolic path builds the mesh; `deckbridge solve` reuses it (one build per command)."""
+    from click.testing import CliRunner
+
+    from deckbridge import mesh as mesh_mod
+    from deckbridge import solve as solve_mod
+    from deckbridge.cli import main
+
+    monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
+    m = load(None, SMALL + ["outputs.vtu=false"])
+    sym, quick = limits.symbolic_estimate(m).bytes, limits.quick_estimate(m)
+    monkeypatch.setattr(limits, "available_bytes", lambda: 0.5 * (sym + quick))   # the symbolic path decides
+    built = []
+    real = mesh_mod.build_mesh
+
+    def counting(model):
+        built.append(model)
+        return real(model)
+
+    monkeypatch.setattr(mesh_mod, "build_mesh", counting)
+    monkeypatch.setattr(solve_mod, "build_mesh", counting)
+    sets = [a for s in SMALL + ["outputs.vtu=false"] for a in ("--set", s)]
+    res = CliRunner().invoke(main, ["solve", "--method", "lagrange", *sets, "-o", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    assert len(built) == 1
+
+
+def test_the_guard_knows_the_stress_recovery_chunk():
+    from reference_solver.recover import STRESS_CHUNK
+    assert limits.STRESS_CHUNK == STRESS_CHUNK
+    base = dict(n_nodes=300_000, n_retained=1_000, factor_entries=30_000_000, states=12)
+    # past one chunk, more elements add their fields only, not their strain operator (9.2 kB each)
+    extra = limits.solve_estimate(**base, n_hex=4 * STRESS_CHUNK).parts["vtu"] - \
+        limits.solve_estimate(**base, n_hex=2 * STRESS_CHUNK).parts["vtu"]
+    assert extra == (12 * 8 * limits.STATE_CELL_FLOATS + 130) * 2 * STRESS_CHUNK

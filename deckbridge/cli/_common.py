@@ -42,6 +42,7 @@ def _on_sigterm(signum, frame):
     raise Terminated()
 
 
+MESH_META = "deckbridge.mesh"      # click context meta: the mesh the memory guard built (None when it built none)
 OPTION_FLAGS = {"k_factor": "--k-factor", "alpha": "--alpha"}   # library argument named in an error -> its flag
 # Library messages name a function's parameter in backquotes (`workers`), never a flag; the command line
 # shows the flag that sets it. One mapping: parameter -> flag.
@@ -141,7 +142,8 @@ def main(debug):
 def model_options(func):
     """Add ``[MODEL]``, ``--set key.sub=value`` and ``--allow-large``; pass a validated ``model``.
 
-    The memory estimate of the model's mesh is checked here, before any work (see :mod:`deckbridge.limits`).
+    The memory estimate of the model's mesh is checked here, before any work (see :mod:`deckbridge.limits`);
+    when that needs the mesh, the mesh is left in the context's meta under :data:`MESH_META` for the command.
     """
 
     @click.argument("model_path", metavar="[MODEL]", required=False,
@@ -153,9 +155,17 @@ def model_options(func):
     @functools.wraps(func)
     def wrapper(model_path, overrides, allow_large, **kwargs):
         model: Model = load(model_path, list(overrides))
-        limits.check_memory(model, allow_large)
+        built = []
+
+        def mesh_once():                            # built only when the guard's symbolic path needs it
+            from ..mesh import build_mesh
+            built.append(build_mesh(model))
+            return built[0]
+
+        limits.check_memory(model, allow_large, mesh=mesh_once)
         ctx = click.get_current_context()
         ctx.meta["deckbridge.allow_large"] = allow_large
+        ctx.meta[MESH_META] = built[0] if built else None      # the command reuses it (built once)
         return func(model=model, **kwargs)
 
     return wrapper

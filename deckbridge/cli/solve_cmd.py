@@ -5,7 +5,7 @@ from tqdm import tqdm
 
 from ..errors import DeckbridgeError
 from ..methods import K_METHODS, METHODS, NAMES
-from ._common import main, model_options
+from ._common import MESH_META, main, model_options
 
 
 @main.command("solve")
@@ -42,7 +42,8 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
         def progress(step, inc, lam):
             bar.set_postfix_str(f"step {step} lambda {lam:.3g}")
             bar.update(1)
-        result = solve(model, method, k_factor=k_factor, alpha=alpha, algorithm=algorithm, on_increment=progress)
+        result = solve(model, method, k_factor=k_factor, alpha=alpha, algorithm=algorithm, on_increment=progress,
+                       mesh=click.get_current_context().meta.get(MESH_META))     # the guard's, when it built one
     paths, summary = result.write(outdir), result.summary
     series = [p for p in paths if p.suffix == ".vtu" and p.name != "result.vtu"]   # listed in result.pvd
     for p in paths:
