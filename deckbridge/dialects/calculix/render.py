@@ -9,9 +9,10 @@ node, measured) and the force K A_ccx d, so the slope K = k_c / A_ccx reproduces
 Penalty, ``nlgeom: true``: one GAPUNI element per slave node, from the skirt node to a grounded node at the
 same place, stiffness k_c on its ``*GAP`` line, direction -n, the clearance and the tension for a wide
 opening f_inf = open_ratio * k_c * t. GAPUNI needs ``NLGEOM`` in 2.20 (without it reactions came out doubled),
-so it is the NLGEOM deck only. With contact.tangential = friction the node-to-surface table groups carry
-``*FRICTION`` (mu, stick slope k_t / A_ccx [Pa/m]: ccx's tangential spring is the slope times the node's area)
-and no circumferential springs; GAPUNI has no friction (:class:`DeckUnsupported`).
+so it is the NLGEOM deck only. At stiff penalties the node-to-surface deck's residual tolerance R_n follows the
+round-off residual of its stiffest spring (:func:`n2f_residual_tol`). With contact.tangential = friction the
+node-to-surface table groups carry ``*FRICTION`` (mu, stick slope k_t / A_ccx [Pa/m]: ccx's tangential spring is
+the slope times the node's area) and no circumferential springs; GAPUNI has no friction (:class:`DeckUnsupported`).
 
 Lagrange-type: ``*CONTACT PAIR, TYPE=MORTAR`` (dual shape functions) between the skirt's first-row base
 faces (slave) and the top faces of a fixed C3D8 ring (master). With MORTAR_HARD (default) the interaction
