@@ -9,9 +9,10 @@ node, measured) and the force K A_ccx d, so the slope K = k_c / A_ccx reproduces
 Penalty, ``nlgeom: true``: one GAPUNI element per slave node, from the skirt node to a grounded node at the
 same place, stiffness k_c on its ``*GAP`` line, direction -n, the clearance and the tension for a wide
 opening f_inf = open_ratio * k_c * t. GAPUNI needs ``NLGEOM`` in 2.20 (without it reactions came out doubled),
-so it is the NLGEOM deck only. With contact.tangential = friction the node-to-surface table groups carry
-``*FRICTION`` (mu, stick slope k_t / A_ccx [Pa/m]: ccx's tangential spring is the slope times the node's area)
-and no circumferential springs; GAPUNI has no friction (:class:`DeckUnsupported`).
+so it is the NLGEOM deck only. At stiff penalties the node-to-surface deck's residual tolerance R_n follows the
+round-off residual of its stiffest spring (:func:`n2f_residual_tol`). With contact.tangential = friction the
+node-to-surface table groups carry ``*FRICTION`` (mu, stick slope k_t / A_ccx [Pa/m]: ccx's tangential spring is
+the slope times the node's area) and no circumferential springs; GAPUNI has no friction (:class:`DeckUnsupported`).
 
 Lagrange-type: ``*CONTACT PAIR, TYPE=MORTAR`` (dual shape functions) between the skirt's first-row base
 faces (slave) and the top faces of a fixed C3D8 ring (master). With MORTAR_HARD (default) the interaction
@@ -61,6 +62,10 @@ STICK_SLOPE_RATIO = 1.0e-2   # friction stick slope = ratio * normal slope
 RESIDUAL_TOL = 1.0e-7        # *CONTROLS FIELD R_n (and R_p): largest residual / mean force
 CORRECTION_TOL = 1.0e-6      # *CONTROLS FIELD C_n: largest correction / largest increment of the solution
 MAX_ITER = 60                # *CONTROLS TIME INCREMENTATION I_C (I_0 = 20, I_R = I_P = I_L = MAX_ITER)
+# Node-to-surface penalty deck: R_n is raised to ROUNDOFF_MARGIN x the round-off residual of its stiffest spring,
+# eps k_max L (L = the largest slave coordinate), over the mean contact force N / n_table, where that exceeds
+# RESIDUAL_TOL (see :func:`n2f_residual_tol`).
+ROUNDOFF_MARGIN = 10.0
 # Mortar deck with *FRICTION: ccx's maximum increment in step 2 is 1 / (MORTAR_FRICTION_SUBSTEPS x increments)
 # (output still at the time points j / increments). ccx 2.20's mortar friction integrates the slip path
 # poorly in large increments: scenario 16 x 4 x 2, pads, no stop, mu 0.3, 5 increments: with 0.2 it lands
@@ -85,6 +90,7 @@ def _common(model: Model, lay: Layout, method: str) -> dict:
         "next_elem": lay.first_gap_elem,
         "tipping": _tipping_note(model),
         "friction_substeps": 0,
+        "roundoff_note": "",
     }
 
 
@@ -200,8 +206,33 @@ def penalty_context(model: Model, mesh: SkirtMesh) -> dict:
         ctx.update(extra)
         ctx["meta"] = ctx["meta"] + extra["n2f_meta"]
         groups = [extra["master_nodes"]]
+        r_n = n2f_residual_tol(model, mesh)
+        if r_n > RESIDUAL_TOL:         # stiff penalty: above the round-off residual of its stiffest spring
+            ctx.update(r_n=f"{r_n:.1e}", field_controls=f"{real(r_n)}, {real(CORRECTION_TOL)}, , , {real(r_n)}",
+                       roundoff_note=f"** R_n (and R_p) raised from {RESIDUAL_TOL:.0e} for this stiff penalty to "
+                       f"{ROUNDOFF_MARGIN:g} x eps k_max L / (N / n_table):\n** the residual that round-off of the "
+                       "slave positions leaves in the stiffest contact spring; below it ccx iterates on\n** "
+                       "round-off until 'increment size smaller than minimum'.")
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, groups, scale(model.units).length, mesh.node_ids))
     return ctx
+
+
+def n2f_residual_tol(model: Model, mesh: SkirtMesh) -> float:
+    """R_n of the node-to-surface penalty deck: RESIDUAL_TOL, or ROUNDOFF_MARGIN x eps k_max L / (N / n_table)
+    where that is larger (stiff penalties). ccx computes a slave node's penetration from its position X + u (|X|
+    up to L, metres); round-off of eps L there gives a spring of stiffness k_max [N/m] a residual force of about
+    eps k_max L [N] that no iteration removes. Measured (24 x 4 x 1, R 1.2 m, t 12 mm, zero-clearance inner stop,
+    stop k_c = 4.3e13 N/m at alpha 50): the largest residual toggled between 2e-3 and 8e-3 N on the stop nodes at
+    theta 0 (eps k_max L = 1.1e-2 N) for 60 iterations, above R_n = 1e-7 x the mean force, until the increment fell
+    below the minimum; with R_n 1e-5 the deck ran in 8 increments within 0.8 % of the reference Lagrange peak."""
+    k = [float(np.max(ss.k)) for ss in (mesh.table, mesh.stop) if ss is not None and ss.nodes.size]
+    slaves = np.concatenate([ss.nodes for ss in (mesh.table, mesh.stop) if ss is not None])
+    length = float(np.abs(mesh.nodes[slaves]).max())
+    mean_force = abs(model.loads.N) / max(mesh.table.nodes.size, 1)
+    if not k or mean_force == 0.0:
+        return RESIDUAL_TOL
+    floor = ROUNDOFF_MARGIN * np.finfo(float).eps * max(k) * length / mean_force
+    return float(max(RESIDUAL_TOL, floor))
 
 
 def mortar_slope(model: Model, lay: Layout) -> float:
