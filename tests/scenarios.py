@@ -178,7 +178,7 @@ def run_case(case: Case, folder: Path) -> Run:
     try:
         run.overrides = tuple(case.overrides(case.mesh_files(folder)))
         run.model = load(None, list(run.overrides))
-        with mock.patch("deckbridge.job.write_report", return_value=[]):
+        with mock.patch("deckbridge.job.write_report_with_verdict", return_value=[]):
             res = run_job(run.model, run.out, with_ccx=True, echo=lines.append)
     except Exception as exc:                     # the invariant "no traceback" reads it
         run.error = f"{type(exc).__name__}: {exc}".splitlines()[0]

@@ -162,7 +162,7 @@ def test_imported_mesh_with_a_defect(tmp_path_factory, how, k):
 
 # --- interrupts ----------------------------------------------------------------------------------------------
 STAGES = {"decks": ("deckbridge.render.render_all", ["decks", "-o", "out"]),
-          "solve": ("deckbridge.solve.solve_path", ["solve", "--method", "penalty", "-o", "out"])}
+          "solve": ("deckbridge.solve.solve_bound", ["solve", "--method", "penalty", "-o", "out"])}
 
 
 @pytest.mark.parametrize("stage", sorted(STAGES))
@@ -184,6 +184,6 @@ def test_interrupt_is_one_error_line(tmp_path, monkeypatch):
     def interrupted(*a, **kw):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("deckbridge.solve.solve_path", interrupted)
+    monkeypatch.setattr("deckbridge.solve.solve_bound", interrupted)
     res, before, after = run(["solve", "--method", "penalty", "-o", "out"] + small_set(), tmp_path)
     refused(res, before, after)
