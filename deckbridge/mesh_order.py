@@ -198,7 +198,6 @@ def build_any_order(model):
 # L2-projected table pressure -M^-1 r against beam theory, fraction of the peak): hex8i 0.012, tet4 0.012,
 # wedge15 0.01 / 0.18 (Lagrange, steps 1 / 2), tet10 0.23, hex20 / hex20r 2.5 (Lagrange, corner nodes open at
 # step 1) and 1.5-2.7 (penalty, every element type with mid-side nodes): the nodal law is unusable there.
-QUADRATIC_REFUSED = ("the reference solver's contact law is nodal (a sign condition on nodal forces), which is "
-                     "wrong on 8-/6-node faces (corner nodes open at zero load; through-wall sigma_N measured "
-                     "18-270 % of the peak off beam theory): solve with hex8i, hex8 or tet4, or run the CalculiX "
-                     "mortar deck")
+QUADRATIC_REFUSED = ("with contact.tangential = friction: the reference solver's face-weighted contact law (the one "
+                     "right on 8-/6-node faces; its nodal laws open every corner node at zero load) is frictionless: "
+                     "use contact.tangential = springs, or hex8i / hex8 / tet4, or the CalculiX mortar deck")

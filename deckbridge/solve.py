@@ -40,10 +40,12 @@ SOURCE = "reference"
 
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
-    """Translate the model and its mesh into the solver's arrays (the mesh's element type; refused with
-    ModelError on quadratic contact faces, where the solver's nodal contact law is wrong)."""
+    """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
+    faces get the face-weighted law (``contact_weighting='face'``: Lagrange only, the penalty method is refused
+    when the path is solved); with friction they are refused with ModelError (the weighted law is frictionless)."""
     mesh = mesh or build_mesh(model)
-    if mesh.quadratic_faces:          # issue 23: the solver's contact law is nodal (mesh_order.py)
+    weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face-weighted Lagrange (face_law.py)
+    if mesh.quadratic_faces and model.contact.tangential == "friction":
         from .mesh_order import QUADRATIC_REFUSED
         raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
     rows = mesh.contact_rows
@@ -64,6 +66,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
         loads={"N": (*lv["N_force"], *z3), "T": (*lv["T_force"], *z3), "M": (*z3, *lv["M_moment"])},
         k_open_ratio=mesh.k_open_ratio, friction=model.contact.friction,
         tangential=model.contact.tangential, contact_kt=kt, kt_follows_k=model.contact.penalty.k_tangent_follows,
+        contact_weighting=weighting,
     )
 
 
