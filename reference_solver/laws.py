@@ -92,6 +92,10 @@ class ContactLaw:
     def retained(self, states: list[State]) -> np.ndarray:
         return np.array([st.x for st in states])
 
+    def sigma_n(self, force: np.ndarray) -> np.ndarray:
+        """sigma_N [Pa] (< 0 compression) of the per-increment row forces (ni, nc) [N]: -force / area."""
+        return 0.0 - force / self.problem.contact_area
+
 
 class PenaltyLaw(ContactLaw):
     """Bilinear gap springs (CGAP/PGAP): k = k_factor x contact_k closed, k_open_ratio x k open."""
@@ -164,6 +168,12 @@ class LagrangeLaw(ContactLaw):
         closed = gw <= 0
         lam = np.where(closed, W.S @ gw + q, 0.0)
         return self.checked(g - self.c0, W.apply(lam), closed, its)
+
+    def sigma_n(self, force):
+        """Face-weighted: the pressure field -lambda = -T^-1 r (the L2 projection on faces; face_law.py)."""
+        if self.weighted is None:
+            return super().sigma_n(force)
+        return 0.0 - self.weighted.solve(np.asarray(force, float).T).T
 
     def track(self, lo, lam_lo, lam_hi, dcoeffs, watch):
         if self.weighted is not None:

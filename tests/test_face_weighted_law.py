@@ -65,6 +65,7 @@ def test_uniform_compression_gives_the_pressure_at_every_base_node(name):
     p, nodes, base, cells, sol = _problem(name, load)
     assert sol.closed[0].all()                                       # corners included
     np.testing.assert_allclose(_sigma_n(p, sol.force[0]), -press, rtol=1e-10, atol=0)
+    np.testing.assert_allclose(sol.sigma_n[0], -press, rtol=1e-10, atol=0)      # what the solver reports
     assert sol.force[0].sum() == pytest.approx(press * A, rel=1e-12)
     corner = np.isin(base, cells[:, :CORNERS[name]].ravel())
     if name != "c3d8":
