@@ -197,7 +197,8 @@ def build_any_order(model):
 # Measured (24 x 4 x 1 skirt, default loads, step 1 and lambda = 0.4 < liftoff; through-wall mean of the
 # L2-projected table pressure -M^-1 r against beam theory, fraction of the peak): hex8i 0.012, tet4 0.012,
 # wedge15 0.01 / 0.18 (Lagrange, steps 1 / 2), tet10 0.23, hex20 / hex20r 2.5 (Lagrange, corner nodes open at
-# step 1) and 1.5-2.7 (penalty, every element type with mid-side nodes): the nodal law is unusable there.
+# step 1) and 1.5-2.7 (penalty, every element type with mid-side nodes): the nodal law is unusable there, so
+# build_problem gives quadratic faces the face-weighted Lagrange law (reference_solver/face_law.py), frictionless.
 QUADRATIC_REFUSED = ("with contact.tangential = friction: the reference solver's face-weighted contact law (the one "
                      "right on 8-/6-node faces; its nodal laws open every corner node at zero load) is frictionless: "
                      "use contact.tangential = springs, or hex8i / hex8 / tet4, or the CalculiX mortar deck")
