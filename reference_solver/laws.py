@@ -153,27 +153,29 @@ class LagrangeLaw(ContactLaw):
         return self.checked(g - self.c0, np.where(closed, S @ g + q, 0.0), closed, its)
 
     def _weighted_increment(self, prev, coeffs):
-        """The LCP in weighted gaps g~ = T g and pressures lambda (face_law.py); forces r = T lambda [N]."""
+        """The LCP in weighted gaps g~ = D g and pressures lambda (face_law.py); forces r = D^T lambda [N]."""
         W = self.weighted
-        q = W.solve(-(self.load(coeffs) + self.system.Sc @ self.c0))
+        q = W.to_pressure(-(self.load(coeffs) + self.system.Sc @ self.c0))
         warm = self.warm(prev)
-        g0 = None if warm is None else W.apply(self.c0 + warm)
+        g0 = None if warm is None else W.weigh(self.c0 + warm)
         if self.algorithm == "gauss-seidel":
             gw, its = lcp_pgs(W.S, q, g0)
         else:
             gw, its = lcp_active_set(W.S, q, g0, solver=self.solver)
-        g = W.solve(gw)
+        g = W.to_gap(gw)
         if np.abs(g).max() > self.max_disp:
             raise Unbounded("gaps beyond the sane limit")
         closed = gw <= 0
         lam = np.where(closed, W.S @ gw + q, 0.0)
-        return self.checked(g - self.c0, W.apply(lam), closed, its)
+        return self.checked(g - self.c0, W.to_force(lam), closed, its,
+                            penetration=float(max(0.0, -g.min(initial=0.0))))
 
     def sigma_n(self, force):
-        """Face-weighted: the pressure field -lambda = -T^-1 r (the L2 projection on faces; face_law.py)."""
+        """Face-weighted: the pressure field's nodal values -E lambda, lambda = D^-T r (face_law.py)."""
         if self.weighted is None:
             return super().sigma_n(force)
-        return 0.0 - self.weighted.solve(np.asarray(force, float).T).T
+        W = self.weighted
+        return 0.0 - (W.E @ W.to_pressure(np.asarray(force, float).T)).T
 
     def track(self, lo, lam_lo, lam_hi, dcoeffs, watch):
         if self.weighted is not None:

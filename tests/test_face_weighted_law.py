@@ -44,8 +44,8 @@ def _problem(name, load, weighting="face", nu=0.0, area=None, **mesh):
 
 
 def _sigma_n(p, force):
-    """-T^-1 r [Pa]: the law's pressure field at the contact rows."""
-    return -spla.spsolve(weighting_matrix(p).tocsc(), force)
+    """-D^-T r [Pa]: the law's pressure field at the contact rows."""
+    return -spla.spsolve(weighting_matrix(p).T.tocsc(), force)
 
 
 def _base_area_moment():
@@ -109,6 +109,7 @@ def test_lumped_face_law_on_4_node_faces_is_the_nodal_law():
 
 
 def test_face_weighting_refuses_penalty():
-    pr, *_ = _problem("c3d20r", [0, 0, -1e6, 0, 0, 0])
+    A, Sx = _base_area_moment()
+    pr, *_ = _problem("c3d20r", [0, 0, -1e6 * A, -1e6 * A * L[1] / 2, 1e6 * Sx, 0])
     with pytest.raises(rs.ReferenceSolverError, match="only the lagrange method"):
         rs.solve_path(rs.condense(pr), "penalty", base={"N": 1.0}, ramp={"T": 1.0}, increments=1)
