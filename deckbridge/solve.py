@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import math
 import time
+import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -45,9 +46,11 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     when the path is solved); with friction they are refused with ModelError (the weighted law is frictionless)."""
     mesh = mesh or build_mesh(model)
     weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face-weighted Lagrange (face_law.py)
-    if mesh.quadratic_faces and model.contact.tangential == "friction":
-        from .mesh_order import QUADRATIC_REFUSED
-        raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
+    if mesh.quadratic_faces:
+        from .mesh_order import QUADRATIC_REFUSED, QUADRATIC_UNVERIFIED
+        if model.contact.tangential == "friction":
+            raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
+        warnings.warn(f"mesh.element = {model.mesh.element}: {QUADRATIC_UNVERIFIED}", UserWarning, stacklevel=2)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
