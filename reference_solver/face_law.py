@@ -1,19 +1,22 @@
-"""The face-weighted (mortar-type) Lagrange law: contact through the surface's face matrix M, not node by node.
+"""The face-weighted (mortar-type) Lagrange law: contact through the surface's mortar matrix, not node by node.
 
-Nodal laws put the sign condition on nodal forces r [N]; on 8-node faces a uniform pressure gives the
-corners -1/12 of p A (6-node faces: 0), so they open every corner at zero load (``docs/elements.md``). Here the
-unknown on each surface is a pressure field lambda [Pa] (> 0 compressive) with nodal forces r = T lambda and the
-weighted gaps g~ = T g [m^3] (g = clearance + u, > 0 open), T = M = int N_a N_b dA per contact surface
-(:mod:`reference_solver.face_weights`; ``face-lumped``: its row sums, for 4- and 3-node faces only). Rows on no
-face of their surface (a line of nodes: the stop) keep T = their ``contact_area`` (a nodal row in pressure units).
-T is symmetric positive definite, so the condensed LCP w = S g + q >= 0 (w = r) becomes, in g~,
+Nodal laws put the sign condition on nodal forces r [N]; on 8-node faces a uniform pressure gives the corners
+-1/12 of p A (6-node faces: 0), so they open every corner at zero load (``docs/elements.md``). Here the unknown
+on each surface is a pressure field p = sum_b lambda_b Phi_b [Pa] (lambda > 0 compressive) in the multiplier
+basis Phi = Q N of :func:`reference_solver.face_weights.multiplier_basis` (positive shares), with
 
-    lambda = S~ g~ + q~ >= 0,  g~ >= 0,  lambda . g~ = 0,   S~ = T^-1 S T^-1,  q~ = T^-1 q,
+    D_ab = int Phi_a N_b dA [m^2],   nodal forces r = D^T lambda,   weighted gaps g~ = D g [m^3]
 
-solved by the nodal law's own LCP algorithms. sigma_N = -lambda is the L2-projected pressure (-M^-1 r). With
-``face-lumped`` on 4-node faces T = diag(tributary areas): a diagonal scaling of the nodal LCP, same solution.
-Chosen by ``Problem.contact_weighting`` ('nodal' default | 'face' | 'face-lumped'); Lagrange only, frictionless
-(:func:`reference_solver.laws.make_law` refuses the rest in one line).
+(g = clearance + u, > 0 open; 'face-lumped': D = the row sums of M, for 4- and 3-node faces only, where it is a
+diagonal scaling of the nodal law). Rows on no face of their surface (a line of nodes: the stop) keep
+D = their ``contact_area``. D is invertible, so the condensed LCP w = S g + q >= 0 (w = r) becomes
+
+    lambda = S~ g~ + q~ >= 0,  g~ >= 0,  lambda . g~ = 0,   S~ = D^-T S D^-1 (SPD),  q~ = D^-T q,
+
+solved by the nodal law's own LCP algorithms. sigma_N = -E lambda, the field's nodal values (E = Q^T per
+face). With Phi = N (D = M, symmetric) a uniform lift would give g~ < 0 at 8-node corners: the base could
+not lift. Chosen by ``Problem.contact_weighting`` ('nodal' default | 'face' | 'face-lumped'); Lagrange only,
+frictionless (:func:`reference_solver.laws.make_law` refuses the rest in one line).
 """
 
 from __future__ import annotations
