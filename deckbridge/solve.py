@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import math
 import time
+import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -40,12 +41,16 @@ SOURCE = "reference"
 
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
-    """Translate the model and its mesh into the solver's arrays (the mesh's element type; refused with
-    ModelError on quadratic contact faces, where the solver's nodal contact law is wrong)."""
+    """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
+    faces get the face-weighted law (``contact_weighting='face'``: Lagrange only, the penalty method is refused
+    when the path is solved); with friction they are refused with ModelError (the weighted law is frictionless)."""
     mesh = mesh or build_mesh(model)
-    if mesh.quadratic_faces:          # issue 23: the solver's contact law is nodal (mesh_order.py)
-        from .mesh_order import QUADRATIC_REFUSED
-        raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
+    weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face-weighted Lagrange (face_law.py)
+    if mesh.quadratic_faces:
+        from .mesh_order import QUADRATIC_REFUSED, QUADRATIC_UNVERIFIED
+        if model.contact.tangential == "friction":
+            raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
+        warnings.warn(f"mesh.element = {model.mesh.element}: {QUADRATIC_UNVERIFIED}", UserWarning, stacklevel=2)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
@@ -64,6 +69,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
         loads={"N": (*lv["N_force"], *z3), "T": (*lv["T_force"], *z3), "M": (*z3, *lv["M_moment"])},
         k_open_ratio=mesh.k_open_ratio, friction=model.contact.friction,
         tangential=model.contact.tangential, contact_kt=kt, kt_follows_k=model.contact.penalty.k_tangent_follows,
+        contact_weighting=weighting,
     )
 
 
@@ -231,6 +237,8 @@ def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFr
         "status": np.where(sol.closed.ravel(), "closed", "open"),
     }), til(p.contact_area))
     df["force_n"] = sol.force.ravel()           # the solver's own (> 0 compressive); sigma_n = -force / area
+    if p.contact_weighting != "nodal":          # face-weighted: sigma_n is the projected pressure (face_law.py);
+        df["force_n"] = -df["sigma_n_pa"] * df["area_m2"]   # the table's force: that pressure on the HRZ area
     return conform(df)
 
 

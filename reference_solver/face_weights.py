@@ -68,9 +68,27 @@ def surface_faces(blocks, on_surface: np.ndarray) -> list[tuple[FaceType, np.nda
     return [(types[k], np.concatenate(v)) for k, v in out.items()]
 
 
-def face_matrix(nodes: np.ndarray, faces, lumped: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
+def multiplier_basis(face: FaceType, alpha: float = 0.2) -> np.ndarray:
+    """Q (k, k): a multiplier (pressure) basis Phi_a = sum_b Q_ab N_b with positive shares on 8-/6-node faces
+    (Wohlmuth, Popp et al. 2012, modified quadratic basis): a corner takes alpha of each of its two edges'
+    mid-side functions, a mid-side keeps 1 - 2 alpha of its own. It sums to 1 and reproduces linear fields
+    (mid-sides at edge mid-points); shares with alpha = 1/5: quad8 corners +1/20, mid-sides 1/5 of A; tri6
+    2/15 and 1/5. 4- and 3-node faces: Q = I."""
+    k, nc = face.n_nodes, face.n_corners
+    Q = np.eye(k)
+    if k > nc:
+        for i in range(nc):                      # mid-side nc + i on the edge (corner i, corner i + 1)
+            m = nc + i
+            Q[m, m] = 1.0 - 2.0 * alpha
+            Q[i, m] = Q[(i + 1) % nc, m] = alpha
+    return Q
+
+
+def face_matrix(nodes: np.ndarray, faces, lumped: bool = False,
+                modified: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
     """Surface nodes (m,) and the assembled M (m x m, CSR) [m^2] of ``faces`` [(face type, conn), ...]
-    (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead."""
+    (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead; ``modified``: the mortar matrix
+    D_ab = int Phi_a N_b dA of the :func:`multiplier_basis` (not symmetric on 8-/6-node faces)."""
     if not faces:
         raise ReferenceSolverError("contact surface: no element face has all its nodes on it")
     nodes = np.asarray(nodes, float)
@@ -78,6 +96,8 @@ def face_matrix(nodes: np.ndarray, faces, lumped: bool = False) -> tuple[np.ndar
     rows, cols, vals = [], [], []
     for ftype, conn in faces:
         Me = face_mass(ftype, nodes[conn])
+        if modified:
+            Me = np.einsum("ab,fbc->fac", multiplier_basis(ftype), Me)
         loc = np.searchsorted(surf, conn)
         k = conn.shape[1]
         rows.append(np.repeat(loc, k, axis=1).ravel())

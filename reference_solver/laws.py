@@ -92,6 +92,10 @@ class ContactLaw:
     def retained(self, states: list[State]) -> np.ndarray:
         return np.array([st.x for st in states])
 
+    def sigma_n(self, force: np.ndarray) -> np.ndarray:
+        """sigma_N [Pa] (< 0 compression) of the per-increment row forces (ni, nc) [N]: -force / area."""
+        return 0.0 - force / self.problem.contact_area
+
 
 class PenaltyLaw(ContactLaw):
     """Bilinear gap springs (CGAP/PGAP): k = k_factor x contact_k closed, k_open_ratio x k open."""
@@ -126,9 +130,15 @@ class LagrangeLaw(ContactLaw):
 
     def __init__(self, system, k_factor=1.0, algorithm=None):
         super().__init__(system, k_factor, algorithm)
-        self.solver = SubsetSolver(system.Sc)
+        self.weighted = None                                   # face_law.FaceWeighting, or nodal rows
+        if self.problem.contact_weighting != "nodal":
+            from .face_law import FaceWeighting
+            self.weighted = FaceWeighting(self.problem, system.Sc)
+        self.solver = SubsetSolver(system.Sc if self.weighted is None else self.weighted.S)
 
     def increment(self, prev, coeffs, guess=None, depth=0):
+        if self.weighted is not None:
+            return self._weighted_increment(prev, coeffs)
         S = self.system.Sc
         q = -(self.load(coeffs) + S @ self.c0)
         warm = self.warm(prev)
@@ -142,7 +152,34 @@ class LagrangeLaw(ContactLaw):
         closed = g <= 0
         return self.checked(g - self.c0, np.where(closed, S @ g + q, 0.0), closed, its)
 
+    def _weighted_increment(self, prev, coeffs):
+        """The LCP in weighted gaps g~ = D g and pressures lambda (face_law.py); forces r = D^T lambda [N]."""
+        W = self.weighted
+        q = W.to_pressure(-(self.load(coeffs) + self.system.Sc @ self.c0))
+        warm = self.warm(prev)
+        g0 = None if warm is None else W.weigh(self.c0 + warm)
+        if self.algorithm == "gauss-seidel":
+            gw, its = lcp_pgs(W.S, q, g0)
+        else:
+            gw, its = lcp_active_set(W.S, q, g0, solver=self.solver)
+        g = W.to_gap(gw)
+        if np.abs(g).max() > self.max_disp:
+            raise Unbounded("gaps beyond the sane limit")
+        closed = gw <= 0
+        lam = np.where(closed, W.S @ gw + q, 0.0)
+        return self.checked(g - self.c0, W.to_force(lam), closed, its,
+                            penetration=float(max(0.0, -g.min(initial=0.0))))
+
+    def sigma_n(self, force):
+        """Face-weighted: the pressure field's nodal values -E lambda, lambda = D^-T r (face_law.py)."""
+        if self.weighted is None:
+            return super().sigma_n(force)
+        W = self.weighted
+        return 0.0 - (W.E @ W.to_pressure(np.asarray(force, float).T)).T
+
     def track(self, lo, lam_lo, lam_hi, dcoeffs, watch):
+        if self.weighted is not None:
+            return None                                        # the driver bisects
         return track_lagrange(self.system.Sc, self.load(dcoeffs), lam_lo, lam_hi, self.c0 + lo.x, lo.p, lo.active,
                               watch, solver=self.solver)
 
@@ -161,10 +198,17 @@ def make_law(system, method: str, k_factor: float = 1.0, algorithm: str | None =
     if not (np.isfinite(k_factor) and k_factor > 0):
         raise ReferenceSolverError(f"k_factor = {k_factor!r}: must be > 0")
     if hasattr(system, "tdofs"):                               # a FrictionSystem
+        if system.problem.contact_weighting != "nodal":
+            raise ReferenceSolverError(f"contact_weighting = {system.problem.contact_weighting!r}: the "
+                                       "face-weighted law is frictionless (tangential = 'springs')")
         from .friction_law import FrictionLaw
         return FrictionLaw(system, method, k_factor, algorithm, **options)
     if options:
         raise ReferenceSolverError(f"{', '.join(options)}: only with a friction system (tangential = 'friction')")
     if method not in LAWS:
         raise ReferenceSolverError(f"method = {method!r}: must be one of {', '.join(LAWS)}")
+    weighting = system.problem.contact_weighting
+    if weighting != "nodal" and method != "lagrange":
+        raise ReferenceSolverError(f"contact_weighting = {weighting!r}: only the lagrange method has a "
+                                   f"face-weighted law (not {method}); use lagrange")
     return LAWS[method](system, k_factor, algorithm)

@@ -144,10 +144,11 @@ def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
     states = [r.state for r in rows]
     C = np.array([r.coeffs for r in rows])
     arrays = law.arrays(states, C)
+    sigma = law.sigma_n(arrays["force"]) if hasattr(law, "sigma_n") else 0.0 - arrays["force"] / p.contact_area
     sol = Solution(
         method=law.name, algorithm=law.algorithm, k_factor=k_factor if law.uses_k else None,
         penalty_k=law.penalty_k, step=np.array([r.step for r in rows]), increment=np.array([r.index for r in rows]),
-        load_factor=np.array([r.load_factor for r in rows]), coeffs=C, sigma_n=0.0 - arrays["force"] / p.contact_area,
+        load_factor=np.array([r.load_factor for r in rows]), coeffs=C, sigma_n=sigma,
         liftoff_load_factor=None if lift is None else float(lift[0]), liftoff_row=None if lift is None else lift[1],
         liftoff_method=None if lift is None else lift[2], gross_slip_load_factor=slide, **arrays)
     if recover:

@@ -1,6 +1,6 @@
 """The parametric skirt in every element type (issue 23, deckbridge/mesh_order.py): geometry against the exact
 annulus, conformity of the split cells, positive slave areas, the solve on linear faces against beam theory
-and its refusal on quadratic faces."""
+and the face-weighted law chosen on quadratic faces."""
 
 from __future__ import annotations
 
@@ -102,9 +102,10 @@ def test_solve_on_linear_faces_against_beam_theory(element):
 
 
 @pytest.mark.parametrize("element", ["hex20", "hex20r", "tet10", "wedge15"])
-def test_solve_refused_on_quadratic_faces(element):
-    with pytest.raises(ModelError, match=r"^mesh.element = .*contact law is nodal.*CalculiX mortar"):
-        build_problem(_model(element))
+def test_quadratic_faces_get_the_face_weighted_law(element):
+    """The refusal is lifted for frictionless contact (face_law.py; tests/test_face_weighted_skirt.py)."""
+    assert build_problem(_model(element)).contact_weighting == "face"
+    assert build_problem(_model("hex8i")).contact_weighting == "nodal"
 
 
 def test_bad_and_warned_values():
