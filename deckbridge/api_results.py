@@ -75,6 +75,7 @@ class Solution:
     friction: pd.DataFrame | None = None
     _solved: tuple | None = field(default=None, repr=False)     # (mesh, system, solution) of an in-memory solve
     _folder: Path | None = field(default=None, repr=False)      # the folder a job wrote it to
+    _every_state: object = field(default=None, repr=False)     # (rows, n, 3) [m] every state's displacements, or None
 
     def __post_init__(self):
         self.table = plain_frame(self.table)
@@ -172,7 +173,8 @@ class Solution:
             from .outdir import staged
             from .paraview import write_reference_series
             with staged(folder) as stage:
-                names = [p.name for p in write_reference_series(stage, self.model, mesh, system, sol)]
+                names = [p.name for p in write_reference_series(stage, self.model, mesh, system, sol,
+                                                                  U=self._every_state)]
             return [folder / n for n in names]
         src = self._folder
         files = [] if src is None else sorted(src.glob("result_*.vtu"))
@@ -190,4 +192,4 @@ class Solution:
         mesh, system, sol = self._solved
         with warnings.catch_warnings():            # the Coulomb-law warning was given once, when solved
             warnings.filterwarnings("ignore", message="friction: ", category=UserWarning)
-            return write_outputs(folder, self.model, system, sol, self.table, self.summary, mesh)
+            return write_outputs(folder, self.model, system, sol, self.table, self.summary, mesh, self._every_state)

@@ -39,7 +39,7 @@ DENSE_BYTES = 10 * 8         # about ten nr x nr float64 arrays of the condensed
 SYMBOLIC_MAX_DOFS = 30e6     # above: refused on the quick estimate alone (the symbolic analysis itself would take GBs)
 # VTU stage (outputs.vtu), per element: the (8 Gauss points, 6, 24) float64 strain operator of
 # Element.gauss_strain_operator, built with about three such arrays alive at once, for one chunk of
-# STRESS_CHUNK elements at a time (reference_solver.recover.STRESS_CHUNK, 8192: about 0.23 GB)
+# STRESS_CHUNK elements at a time (reference_solver.recover.STRESS_CHUNK, 2048: about 0.06 GB)
 STRAIN_OPERATOR_BYTES = 8 * 6 * 24 * 8
 STRAIN_OPERATOR_COPIES = 4.0      # the chunk's operator, its B_u, B_a and the states' strains (fitted, see below)
 # every state's VTU data is held until the files are written: per node displacement 3, contact 8 (2
@@ -48,7 +48,7 @@ STRAIN_OPERATOR_COPIES = 4.0      # the chunk's operator, its B_u, B_a and the s
 # by chunks (peak 899 and 1492 MiB): about 29 floats per node and state.
 STATE_POINT_FLOATS = 29
 STATE_CELL_FLOATS = 7
-STRESS_CHUNK = 8192               # reference_solver.recover.STRESS_CHUNK (not imported: a test checks they agree)
+STRESS_CHUNK = 2048               # reference_solver.recover.STRESS_CHUNK (not imported: a test checks they agree)
 # the symbolic estimate's other terms (solve_estimate), fitted on the measured peaks of bench/memory_guard.py
 PROCESS_BYTES = 170 * 2**20        # interpreter, NumPy/SciPy/pandas/CHOLMOD, deckbridge
 FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and CHOLMOD's workspace

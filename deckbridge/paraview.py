@@ -243,11 +243,18 @@ def series_comment(model, sol) -> str:
 
 
 def write_reference_series(folder: str | Path, model, mesh: SkirtMesh, system, sol,
-                           base: str = "result") -> list[Path]:
+                           base: str = "result", U: np.ndarray | None = None) -> list[Path]:
     """Write ``base.pvd`` and ``base_NNN.vtu`` of the reference load path into ``folder`` (a staging
-    folder: the caller makes the writing atomic); returns the written paths, the pvd first."""
-    states, times = reference_states(model, mesh, system, sol)
+    folder: the caller makes the writing atomic); returns the written paths, the pvd first. ``U``: every
+    row's displacements when already recovered."""
+    states, times = reference_states(model, mesh, system, sol, U)
     return write_states(Path(folder), base, mesh.nodes, mesh.hexes, states, times, series_comment(model, sol))
+
+
+def step_end_fields(sol, U: np.ndarray) -> dict:
+    """{step: (n, 3) displacements [m]} at the end of steps 1 and 2: rows of ``U`` (rows, n, 3) [m], every
+    row of ``sol`` (:func:`reference_solver.recover.path_fields`)."""
+    return {s: U[int(np.flatnonzero(sol.step == s)[-1])] for s in (1, 2)}
 
 
 def result_mesh(p, sol, U: np.ndarray | None = None):
@@ -257,7 +264,7 @@ def result_mesh(p, sol, U: np.ndarray | None = None):
     import meshio
     point, cell = {}, {}
     ends = {s: int(np.flatnonzero(sol.step == s)[-1]) for s in (1, 2)}
-    fields = sol.fields if U is None else {s: U[r] for s, r in ends.items()}
+    fields = sol.fields if U is None else step_end_fields(sol, U)
     for s, u in sorted(fields.items()):
         last = ends[s]
         point[f"displacement_step{s}_m"] = u
@@ -272,12 +279,12 @@ def result_mesh(p, sol, U: np.ndarray | None = None):
 
 
 def write_reference_vtus(folder: str | Path, model, mesh: SkirtMesh, system, sol, base: str = "result",
-                         ) -> list[Path]:
+                         U: np.ndarray | None = None) -> list[Path]:
     """result.vtu and the series ``base.pvd`` + ``base_NNN.vtu`` from ONE recovery of every row's
-    displacements, all VTUs written in one batch (:func:`write_vtus`); returns the paths, result.vtu
-    first, then the pvd and the series."""
+    displacements (``U`` (rows, n, 3) [m] when the caller already holds it), all VTUs written in one batch
+    (:func:`write_vtus`); returns the paths, result.vtu first, then the pvd and the series."""
     folder = Path(folder)
-    U = path_fields(system, sol)
+    U = path_fields(system, sol) if U is None else U
     states, times = reference_states(model, mesh, system, sol, U)
     files = [f"{base}_{k:03d}.vtu" for k in range(len(states))]
     jobs = [(folder / "result.vtu", result_mesh(system.problem, sol, U))]

@@ -313,9 +313,11 @@ def _augmented_summary(sol: rs.Solution) -> dict | None:
 
 
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
-                  df: pd.DataFrame, summary: dict, mesh: SkirtMesh | None = None) -> list[Path]:
+                  df: pd.DataFrame, summary: dict, mesh: SkirtMesh | None = None,
+                  U: np.ndarray | None = None) -> list[Path]:
     """Write contact.csv, summary.json, with friction friction.csv (:mod:`deckbridge.friction_table`), and (outputs.vtu) result.vtu plus the ParaView series result.pvd,
-    result_NNN.vtu (one per increment, :mod:`deckbridge.paraview`) into ``outdir`` atomically."""
+    result_NNN.vtu (one per increment, :mod:`deckbridge.paraview`) into ``outdir`` atomically. ``U`` (rows, n, 3) [m]:
+    every row's displacements when the caller already recovered them (else recovered here, once)."""
     names = ["contact.csv", "summary.json"]
     with staged(outdir) as stage:
         df.to_csv(stage / "contact.csv", index=False)
@@ -325,7 +327,7 @@ def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, 
             fric.to_csv(stage / FRICTION_CSV, index=False, float_format="%.17g")
             names.append(FRICTION_CSV)
         if model.outputs.vtu:       # result.vtu + the series, from one recovery of every row (deckbridge.paraview)
-            names += [f.name for f in write_reference_vtus(stage, model, mesh or build_mesh(model), system, sol)]
+            names += [f.name for f in write_reference_vtus(stage, model, mesh or build_mesh(model), system, sol, U=U)]
     return [Path(outdir) / n for n in names]
 
 

@@ -36,11 +36,12 @@ def factor_entries(hexes, n_nodes: int) -> int | None:
     if _cholmod is None:
         return None
     from .assembly import node_pairs
+    from .trailing import analyze_nodes
     rows, cols, _ = node_pairs(hexes if isinstance(hexes, (list, tuple)) else np.asarray(hexes), n_nodes)
     G = sp.csc_matrix((np.ones(rows.size), (rows, cols)), shape=(n_nodes, n_nodes))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        f = _cholmod.analyze(G, mode="supernodal")
+        f = analyze_nodes(G, mode="supernodal")                          # the condensation's own ordering
     try:
         base = id(f)
         if ctypes.c_void_p.from_address(base + 16).value != id(f._common):

@@ -13,9 +13,10 @@ from .condense import CondensedSystem
 from .kinematics import elasticity_matrix, von_mises
 from .path import Solution
 
-# elements per chunk of the stress recovery: its strain operator 9.2 kB per 8-node hexahedron (75 MB),
-# about 3 such arrays alive while it is built
-STRESS_CHUNK = 8192
+# elements per chunk of the stress recovery: its strain operator 9.2 kB per 8-node hexahedron (19 MB),
+# about 3 such arrays alive while it is built; under glibc's 32 MB mmap threshold the freed arrays are
+# reused, not page-faulted afresh (8192: 1.6x the CPU, bench/README.md)
+STRESS_CHUNK = 2048
 
 
 def path_fields(system: CondensedSystem, sol: Solution, rows=None) -> np.ndarray:
