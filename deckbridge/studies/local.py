@@ -188,9 +188,18 @@ class LocalExecutor:
     @staticmethod
     def _stop(pool: ProcessPoolExecutor, now: bool) -> None:
         if now:                      # an error or Ctrl-C in the client: stop the workers at once
-            for p in list((getattr(pool, "_processes", None) or {}).values()):
+            procs = list((getattr(pool, "_processes", None) or {}).values())
+            for p in procs:
                 with contextlib.suppress(Exception):
                     p.terminate()
+            for p in procs:          # reap them here: shutdown(wait=True) on a pool whose workers were
+                with contextlib.suppress(Exception):    # terminated can wait forever on its manager thread
+                    p.join(timeout=10)
+                    if p.is_alive():
+                        p.kill()
+                        p.join(timeout=10)
+            pool.shutdown(wait=False, cancel_futures=True)
+            return
         pool.shutdown(wait=True, cancel_futures=True)
 
     def close(self, stop: bool = False) -> None:
