@@ -1,7 +1,8 @@
 """CalculiX mortar deck on quadratic skirts (issue 23, deckbridge/deck_elements.py): ccx 2.20 runs the C3D20R /
 C3D10 / C3D15 deck and its face-weighted (mortar) contact carries uniform compression without opening a
-corner node. The reference solver refuses these faces (its contact law is nodal), so the truths here are the
-closed form sigma_N = -N / (2 pi R t) (a thin ring in uniform compression) and the force balance.
+corner node. The truths here are the closed form sigma_N = -N / (2 pi R t) (a thin ring in uniform
+compression) and the force balance (the reference solver's face-weighted Lagrange on these faces is checked
+against the same closed form in tests/test_face_weighted_skirt.py).
 
 Only step 1 (N alone): with a moment in step 2, ccx 2.20's mortar stalls on these quadratic faces (largest
 residual stuck at ~0.06 N on mid-side table nodes near the neutral axis, then too many cutbacks), measured
