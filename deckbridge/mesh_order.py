@@ -1,6 +1,6 @@
 """The parametric skirt in any element type (issue 23): ``mesh.element`` and the structured cells.
 
-``mesh.element`` (MESH_ELEMENTS): ``hex8i`` (default, C3D8I, :mod:`deckbridge.mesh`'s own builder),
+``mesh.element`` (:data:`deckbridge.model_fields.MESH_ELEMENTS`): ``hex8i`` (default, C3D8I, :mod:`deckbridge.mesh`'s own builder),
 ``hex8``, ``hex20``, ``hex20r``, ``tet10``, ``wedge15``, ``tet4``. Every type is built on one refined
 grid of the wall: levels kk = 0..2 n_z along z, ii = 0..2 n_r through the wall, jj = 0..2 n_theta - 1
 around, at z = H kk / (2 n_z), r = r_mid(z) + (ii / (2 n_r) - 1/2) t, theta = 360 jj / (2 n_theta) deg,
@@ -24,8 +24,7 @@ import numpy as np
 import reference_solver as rs
 from reference_solver.elements import element_type
 
-from .face_areas import base_face_areas, hrz_areas  # noqa: F401  (their home: deckbridge/face_areas.py)
-from .model_fields import MESH_ELEMENTS  # noqa: F401
+from .face_areas import hrz_areas
 EIGHT_NODE = ("c3d8i", "c3d8")           # solver names built by deckbridge.mesh's own 8-node builder
 
 # hexahedron corners (dk, di, dj): C3D8 order of deckbridge.mesh

@@ -72,7 +72,7 @@ class MeshSpec:
     def __post_init__(self):
         _put(self, "n_theta", _int("mesh.n_theta", self.n_theta, ge=8, le=10**7))
         from .model_fields import check_element
-        _put(self, "element", check_element(self.element, self.file, ModelError))
+        _put(self, "element", check_element(self.element, self.file))
         _put(self, "n_z", _int("mesh.n_z", self.n_z, ge=1, le=10**7))
         _put(self, "n_r", _int("mesh.n_r", self.n_r, ge=1, le=10**4))
         from .importers.spec import check_mesh_keys

@@ -106,7 +106,7 @@ def _nu(value: Any) -> float:
 MESH_ELEMENTS = ("hex8i", "hex8", "hex20", "hex20r", "tet10", "wedge15", "tet4")   # mesh.element values
 
 
-def check_element(value, mesh_file, ModelError) -> str:
+def check_element(value, mesh_file) -> str:
     """Validate ``mesh.element`` (one line naming the key); warn for tet4; the 8-node alias is kept."""
     if not isinstance(value, str) or value.lower() not in MESH_ELEMENTS:
         raise ModelError("mesh.element", value, f"must be one of {', '.join(MESH_ELEMENTS)}")
