@@ -35,11 +35,12 @@ def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
             "node_ids": nids[keep], "xyz": xyz[keep], "elem_ids": eids, "conn": conn, "sets": sets}
 
 
-def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius=None, scale=1.0) -> dict:
+def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius=None, scale=1.0, recombine=True) -> dict:
     """The Gmsh model of :func:`gmsh_skirt` (geometry, transfinite meshing constraints, physical groups
     SKIRT (volumes), BASE and TOP (faces)), not yet meshed: R, t, H [m], ``top_radius`` the mid-wall radius at the
     top (a cone: the revolved section is a parallelogram; None: R), coordinates times ``scale`` (1000: mm).
-    Returns the physical group tags {'BASE': tag, 'TOP': tag}."""
+    ``recombine`` False: the section is meshed in triangles and revolved into tetrahedra (Gmsh splits each
+    extruded prism into three). Returns the physical group tags {'BASE': tag, 'TOP': tag}."""
     s, rt = scale, (R if top_radius is None else top_radius)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.model.add("skirt")
@@ -52,11 +53,12 @@ def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius=None, scale=1.0) -
     for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
         geo.mesh.setTransfiniteCurve(ln, n + 1)
     geo.mesh.setTransfiniteSurface(surf)
-    geo.mesh.setRecombine(2, surf)
+    if recombine:
+        geo.mesh.setRecombine(2, surf)
     vols, bottoms, tops = [], [], []
     cur = (2, surf)
     for q in range(4):   # revolve in 4 quarters (one revolution of 360 deg is not allowed)
-        out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=True)
+        out = geo.revolve([cur], 0, 0, 0, 0, 0, 1, np.pi / 2, numElements=[n_theta // 4], recombine=recombine)
         vols.append(out[1][1])
         # the lateral surfaces from lines[0] (bottom) and lines[2] (top)
         bottoms.append(out[2][1])
@@ -192,9 +194,88 @@ def _files_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, top_radius,
         gmsh.finalize()
 
 
+QUADRATIC_KINDS = ("hex20", "hex27", "tet10")
+
+
+def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=2,
+                   unstructured: bool = False) -> dict:
+    """A second-order skirt meshed as an analyst does it with the Gmsh API: mesh the tube first order,
+    then ``gmsh.model.mesh.setOrder(2)``; ``kind`` 'hex20' (recombined, ``Mesh.SecondOrderIncomplete`` 1),
+    'hex27' (recombined, the option left at its default 0: 27-node hexahedra), 'tet10' (the revolved
+    section not recombined: tetrahedra, in through-wall rows; ``unstructured``: Gmsh's own tetrahedra of
+    the OpenCASCADE tube, target size t). Mid-side nodes lie on the true cylinder. Written by ``gmsh.write``
+    as ``skirt.msh`` (4.1), ``skirt.inp`` (``Mesh.SaveGroupsOfNodes``: *NSET BASE / TOP) and ``skirt.bdf``, plus
+    ``base.txt`` / ``top.txt`` (the .bdf carries no sets). Returns {'msh', 'inp', 'bdf': path, 'sets': {fmt:
+    the model's mesh.sets value}, 'n_elements': int, 'nodes_per_element': int}."""
+    assert kind in QUADRATIC_KINDS, kind
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    args = json.dumps({"quadratic": kind, "outdir": str(outdir), "R": R, "t": t, "H": H, "n_theta": n_theta,
+                       "n_z": n_z, "n_r": n_r, "unstructured": unstructured})
+    subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
+    info = json.loads((outdir / "gmsh_info.json").read_text())
+    sets = {"msh": "{base: BASE, top: TOP}", "inp": "{base: BASE, top: TOP}",
+            "bdf": "{base: base.txt, top: top.txt}"}
+    return {**{f: outdir / f"skirt.{f}" for f in ("msh", "inp", "bdf")}, "sets": sets, **info}
+
+
+def _quadratic_in_this_process(outdir: Path, kind, R, t, H, n_theta, n_z, n_r, unstructured) -> None:
+    """The Gmsh part of :func:`gmsh_quadratic` (child process)."""
+    import gmsh
+    gmsh.initialize(["-noenv"])
+    try:
+        if unstructured:
+            groups = _occ_tube(gmsh, R, t, H)
+        else:
+            groups = _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, recombine=kind != "tet10")
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.removeDuplicateNodes()
+        if kind == "hex20":
+            gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 1)
+        gmsh.model.mesh.setOrder(2)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.option.setNumber("Mesh.SaveGroupsOfNodes", 1)
+        for fmt in ("msh", "inp", "bdf"):
+            gmsh.write(str(outdir / f"skirt.{fmt}"))
+        for name, tag in groups.items():
+            ids = gmsh.model.mesh.getNodesForPhysicalGroup(2, tag)[0]
+            (outdir / f"{name.lower()}.txt").write_text("\n".join(str(int(i)) for i in ids) + "\n")
+        etypes, etags, enodes = gmsh.model.mesh.getElements(3)
+        info = {"n_elements": int(sum(len(e) for e in etags)),
+                "nodes_per_element": int(len(enodes[0]) // len(etags[0]))}
+    finally:
+        gmsh.finalize()
+    (outdir / "gmsh_info.json").write_text(json.dumps(info))
+
+
+def _occ_tube(gmsh, R, t, H) -> dict:
+    """The tube R -+ t/2, 0 <= z <= H as an OpenCASCADE solid, Gmsh's default tetrahedra of size t;
+    physical groups SKIRT, BASE (the face at z = 0), TOP (z = H)."""
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.model.add("tube")
+    occ = gmsh.model.occ
+    outer = occ.addCylinder(0, 0, 0, 0, 0, H, R + t / 2)
+    inner = occ.addCylinder(0, 0, 0, 0, 0, H, R - t / 2)
+    vol, _ = occ.cut([(3, outer)], [(3, inner)])
+    occ.synchronize()
+    gmsh.option.setNumber("Mesh.MeshSizeMax", t)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", t / 2)
+    faces = {"BASE": [], "TOP": []}
+    for dim, tag in gmsh.model.getBoundary(vol, oriented=False):
+        z = gmsh.model.occ.getCenterOfMass(dim, tag)[2]
+        if abs(z) < 1e-9 * H:
+            faces["BASE"].append(tag)
+        elif abs(z - H) < 1e-9 * H:
+            faces["TOP"].append(tag)
+    gmsh.model.addPhysicalGroup(3, [v for _, v in vol], name="SKIRT")
+    return {name: gmsh.model.addPhysicalGroup(2, f, name=name) for name, f in faces.items()}
+
+
 if __name__ == "__main__":
     kw = json.loads(sys.argv[1])
-    if kw.pop("files", False):
+    if "quadratic" in kw:
+        _quadratic_in_this_process(Path(kw.pop("outdir")), kw.pop("quadratic"), **kw)
+    elif kw.pop("files", False):
         _files_in_this_process(Path(kw.pop("outdir")), **kw)
     else:
         _mesh_in_this_process(Path(kw.pop("outdir")), **kw)

@@ -6,45 +6,36 @@ import numpy as np
 
 from .raw import HEX8, is_solid, solid_shape
 
-LATER = "tetrahedral and quadratic meshes are a later issue (deckbridge takes 8-node hexahedra)"
-
-
-def hex8_only(raw, key: str = "mesh.file"):
-    """(element ids, connectivity of node ids) of the 8-node hexahedra. Elements that are not solids
-    (the 2D skin of physical groups Gmsh writes, CPS4 / S4 / CQUAD4, beams, springs) are ignored: their
-    nodes are solid nodes and they may define the node sets. Any other solid type is refused, named."""
+def solid_elements(raw, key: str = "mesh.file"):
+    """(file type, element ids, connectivity of node ids) of the mesh's solids, one type per mesh: 8-node
+    hexahedra (C3D8 order) or one 10-, 15-, 20- or 27-node type (:mod:`.quadratic` takes those). Elements
+    that are not solids (the 2D skin of physical groups Gmsh writes, CPS4 / CPS8 / S4 / CQUAD4 / CTRIA6,
+    beams, springs) are ignored: their nodes are solid nodes and they may define the node sets. A mesh of
+    several solid types, and a type deckbridge does not take (C3D4, C3D6, pyramids), are refused, named."""
     from ..errors import ModelError
+    from .quadratic import solver_element
     solids = {t: (i, c) for t, (i, c) in raw.elements.items() if is_solid(t)}
-    other = {t: (len(i), c.shape[1]) for t, (i, c) in solids.items() if t.upper() not in HEX8 or c.shape[1] != 8}
-    if other:
-        t, (n, k) = next(iter(other.items()))
-        raise ModelError(key, raw.path, f"{n} elements of type {t}: {solid_shape(k)}; {LATER}"
-                         f"{_order_note(raw, t, solids[t][1])}")
-    hexes = list(solids.values())
-    if not hexes:
+    if not solids:
         skin = ", ".join(sorted(raw.elements)) or "none"
-        raise ModelError(key, raw.path, f"no 8-node hexahedra in the file (elements found: {skin})")
-    ids = np.concatenate([i for i, _ in hexes])
-    conn = np.vstack([c for _, c in hexes])
+        raise ModelError(key, raw.path, f"no solid elements in the file (elements found: {skin})")
+    kinds = {t: ("hex8" if t.upper() in HEX8 and c.shape[1] == 8 else solver_element(t, c.shape[1]))
+             for t, (i, c) in solids.items()}
+    for t, (i, c) in solids.items():
+        if kinds[t] is None:
+            raise ModelError(key, raw.path, f"{len(i)} elements of type {t}: {solid_shape(c.shape[1])}; deckbridge "
+                             "takes 8-node hexahedra (C3D8, C3D8I, C3D8R) and 20-node hexahedra (C3D20, C3D20R), "
+                             "10-node tetrahedra (C3D10) and 15-node wedges (C3D15)")
+    if len(set(kinds.values())) > 1:
+        (t1, (i1, _)), (t2, (i2, _)) = list(solids.items())[:2]
+        raise ModelError(key, raw.path, f"{len(i1)} elements of type {t1} and {len(i2)} of type {t2}: a mixed "
+                         "mesh is not taken (one solid type per mesh)")
+    t = next(iter(solids))
+    ids = np.concatenate([i for i, _ in solids.values()])
+    conn = np.vstack([c for _, c in solids.values()])
     u, cnt = np.unique(ids, return_counts=True)
     if (cnt > 1).any():
         raise ModelError(key, raw.path, f"element {int(u[cnt > 1][0])} is defined twice")
-    return ids, conn
-
-
-def _order_note(raw, etype: str, conn_ids) -> str:
-    """'; node order ...' for a 10-, 15- or 20-node solid (:mod:`.node_order`), '' for other types or when
-    its node ids are not all defined; the parametric skirt's element key as the way to run these types."""
-    from .node_order import node_order_problem, to_calculix_order
-    conn_ids = to_calculix_order(etype, conn_ids)
-    name = {10: "c3d10", 15: "c3d15", 20: "c3d20", 4: "c3d4"}.get(conn_ids.shape[1])
-    index = {int(n): i for i, n in enumerate(raw.node_ids)}
-    if name is None or not all(int(n) in index for n in np.unique(conn_ids)):
-        return ""
-    cells = np.vectorize(index.__getitem__, otypes=[np.int64])(conn_ids)
-    why = node_order_problem(np.asarray(raw.nodes, float), cells, name)
-    return (f"; node order: {why}" if why else "; node order checked (CalculiX's)") + \
-        "; the parametric skirt takes these types (mesh.element: hex20 | hex20r | tet10 | wedge15 | tet4)"
+    return t, ids, conn
 
 
 def ids_in_range(raw, elem_ids, key: str = "mesh.file") -> None:
@@ -171,7 +162,7 @@ def connected(n_nodes: int, hexes, node_ids) -> None:
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from ..errors import ModelError
-    r = np.repeat(hexes[:, :1], 7, axis=1).ravel()
+    r = np.repeat(hexes[:, :1], hexes.shape[1] - 1, axis=1).ravel()
     c = hexes[:, 1:].ravel()
     g = coo_matrix((np.ones(r.size), (r, c)), shape=(n_nodes, n_nodes))
     n, lab = connected_components(g, directed=False)

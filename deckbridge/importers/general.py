@@ -19,7 +19,7 @@ import numpy as np
 
 from ..mesh_data import SkirtMesh, _slave_set, hex_volumes, quad_nodal_areas
 from ..supports import pad_face_mask
-from . import checks, measure
+from . import checks, measure, quadratic
 from .read import read_mesh_file
 from .spec import MESH_UNITS, PLAUSIBLE_RADIUS_M
 
@@ -79,7 +79,10 @@ def imported_mesh(model) -> SkirtMesh:
     """Read, check and convert ``model.mesh.file`` (with its sets, units and axis)."""
     ms = model.mesh
     raw = read_mesh_file(ms.file)
-    elem_ids, conn_ids = checks.hex8_only(raw)
+    etype, elem_ids, conn_ids = checks.solid_elements(raw)
+    element = "c3d8"
+    if conn_ids.shape[1] != 8:          # 10-, 15-, 20-node solids (issue 23)
+        element, elem_ids, conn_ids = quadratic.quadratic_cells(raw, etype, elem_ids, conn_ids)
     checks.ids_in_range(raw, elem_ids)
     unit = MESH_UNITS[ms.units]
     axis = None if ms.axis is None else (*(unit * np.array(ms.axis[:3])), *ms.axis[3:])
@@ -97,8 +100,11 @@ def imported_mesh(model) -> SkirtMesh:
     z0 = checks.base_plane(nodes, base, top, raw.node_ids, ms.sets, size)
     if z0 != 0.0:
         nodes[:, 2] -= z0
-    checks.not_inverted(nodes, hexes, elem_ids)
     checks.connected(len(nodes), hexes, raw.node_ids)
+    if element != "c3d8":
+        hexes = quadratic.check_node_order(nodes, hexes, element, elem_ids, raw.path)
+        return quadratic.quadratic_mesh(model, element, nodes, hexes, base, top, stop_set, raw.node_ids, elem_ids)
+    checks.not_inverted(nodes, hexes, elem_ids)
     hexes = orient(nodes, hexes)
     return contact_mesh(model, nodes, hexes, base, top, stop_set, raw.node_ids, elem_ids)
 

@@ -19,15 +19,29 @@ from .measure import rings
 
 def measured_geometry(mesh) -> dict:
     """The ``geometry`` keys of an imported ``mesh`` measured on it [m] (module docstring)."""
-    rb = rings(mesh.nodes, mesh.hexes[mesh.base_elems, :4])
-    rt = rings(mesh.nodes, mesh.hexes[mesh.top_elems, 4:])
     zt = float(np.mean(mesh.nodes[mesh.top_nodes, 2]))
     rnd = lambda x: float(f"{x:.12g}")  # noqa: E731
-    geo = {"radius": rnd(rb.mid_radius), "thickness": rnd(rb.thickness), "height": rnd(zt), "top_radius": None}
-    r_top = rnd(rt.mid_radius)
+    if mesh.table_faces is not None:    # 10-, 15-, 20-node cells (issue 23): the extreme circles of the faces
+        (r_in, r_out), (t_in, t_out) = (_extreme_radii(mesh.nodes, s) for s in (mesh.table.nodes, mesh.top_nodes))
+        geo = {"radius": rnd((r_in + r_out) / 2), "thickness": rnd(r_out - r_in), "height": rnd(zt),
+               "top_radius": None}
+        r_top = rnd((t_in + t_out) / 2)
+    else:
+        rb = rings(mesh.nodes, mesh.hexes[mesh.base_elems, :4])
+        rt = rings(mesh.nodes, mesh.hexes[mesh.top_elems, 4:])
+        geo = {"radius": rnd(rb.mid_radius), "thickness": rnd(rb.thickness), "height": rnd(zt), "top_radius": None}
+        r_top = rnd(rt.mid_radius)
     if abs(r_top - geo["radius"]) > 1e-6 * geo["radius"]:
         geo["top_radius"] = r_top
     return geo
+
+
+def _extreme_radii(nodes, surf) -> tuple[float, float]:
+    """(inner, outer) radius [m] of a face set: the mean radius of its nodes within 1e-3 of the wall of the
+    smallest (largest) one (a file's limited precision averages out)."""
+    r = np.hypot(nodes[surf, 0], nodes[surf, 1])
+    tol = 1e-3 * float(np.ptp(r))
+    return float(r[r <= r.min() + tol].mean()), float(r[r >= r.max() - tol].mean())
 
 
 GEOMETRY_REL_TOL = 1e-3   # a geometry key within this fraction of the mesh's value agrees with it

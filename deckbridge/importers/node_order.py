@@ -31,6 +31,42 @@ def to_calculix_order(etype: str, conn: np.ndarray) -> np.ndarray:
     return conn if perm is None else conn[:, perm]
 
 
+# a mirror of each element's corners (two corners swapped, or the hexahedron's 2-4 / 6-8): it turns an inverted
+# element (every mid-side node mid-edge, the whole volume negative) into the same element, positive
+MIRROR = {4: {0: 0, 1: 2, 2: 1, 3: 3}, 6: {0: 0, 1: 2, 2: 1, 3: 3, 4: 5, 5: 4},
+          8: {0: 0, 1: 3, 2: 2, 3: 1, 4: 4, 5: 7, 6: 6, 7: 5}}
+
+
+def mirror_order(element) -> np.ndarray:
+    """The node order (k,) that mirrors an element type's corners, each mid-side node kept on its edge."""
+    et = element_type(element)
+    swap = MIRROR[N_CORNERS[et.n_nodes]]
+    new = list(range(et.n_nodes))
+    for c, d in swap.items():
+        new[c] = d
+    edges = midside_edges(et)
+    where = {frozenset((a, b)): m for m, a, b in edges}
+    for m, a, b in edges:
+        new[m] = where[frozenset((swap[a], swap[b]))]
+    return np.array(new)
+
+
+def turn_inverted(nodes: np.ndarray, cells: np.ndarray, element) -> tuple[np.ndarray, int]:
+    """(cells, count): the elements whose every integration point has a negative Jacobian (a mesher's
+    inverted element: Gmsh's revolved tetrahedra) mirrored by :func:`mirror_order`, which is unambiguous;
+    an element whose Jacobian changes sign is left to :func:`node_order_problem`."""
+    et = element_type(element)
+    cells = np.asarray(cells, np.int64)
+    x = np.asarray(nodes, float)[cells]
+    det = np.stack([np.linalg.det(np.einsum("ia,eaj->eij", et.dshape(np.asarray(xi, float)[None])[0], x))
+                    for xi in et.points], axis=1)
+    flip = (det < 0).all(axis=1)
+    if flip.any():
+        cells = cells.copy()
+        cells[flip] = cells[flip][:, mirror_order(et)]
+    return cells, int(flip.sum())
+
+
 def midside_edges(element) -> list[tuple[int, int, int]]:
     """(mid-side node, corner a, corner b) of an element type, from its natural node coordinates."""
     et = element_type(element)
