@@ -28,7 +28,10 @@ def read_bdf(path: Path) -> RawMesh:
                             xref_materials=False, xref_loads=False, xref_constraints=False, xref_aero=False,
                             xref_sets=False, xref_optimization=False)
     except Exception as exc:   # pyNastran raises many kinds on bad decks
-        raise ModelError("mesh.file", str(path), f"unreadable Nastran file ({type(exc).__name__}: {exc})") from None
+        why = " ".join(str(exc).split("\n")[:1])[:300]
+        if "CHEXA20 card" in why:   # Gmsh's second order without Mesh.SecondOrderIncomplete: 27 nodes
+            why += ": a CHEXA has at most 20 nodes (Gmsh writes 27-node bricks unless Mesh.SecondOrderIncomplete = 1)"
+        raise ModelError("mesh.file", str(path), f"unreadable Nastran file ({type(exc).__name__}: {why})") from None
     nids = np.array(sorted(bdf.nodes), np.int64)
     xyz = np.array([bdf.nodes[int(n)].get_position() for n in nids], float).reshape(-1, 3)
     elements: dict = {}

@@ -1,0 +1,132 @@
+"""Quadratic skirts meshed with the Gmsh API as an analyst does it (``gmsh.model.mesh.setOrder(2)``; recombined
+hexahedra with ``Mesh.SecondOrderIncomplete`` 1, or tetrahedra), written by ``gmsh.write`` as .msh, .inp and .bdf,
+imported and solved by the reference solver (face-weighted Lagrange, issue 23).
+
+96 x 6 x 2 skirt (R 1.5, t 0.02, H 2 m), default loads, lambda = 0.3 (full contact): the through-wall mean
+(Simpson over the 5 nodes of a corner azimuth) of sigma_N against thin-ring beam theory, as a fraction of the
+peak. Measured: hex20 0.00089 (.msh, .inp), 0.0014 (.bdf), tet10 0.0041 (.msh); the parametric skirt on the same
+grid gives hex20 0.0008, tet10 0.0040 (tests/test_face_weighted_skirt.py). The table forces add up to N (2e-13)
+and their moment about the axis' normal to the load plane is lambda M (1e-9). The .msh and .inp give the same
+sigma_N to 1.8e-10 of the peak (the .inp's 14 significant digits); the .bdf to 3.6e-4, since Gmsh writes
+small-field GRID cards (8 characters: radii 1.4999974 m, thickness 0.0199992 m measured).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import simpson
+
+from gmsh_skirt import gmsh_quadratic
+
+from deckbridge.errors import ModelError
+from deckbridge.mesh import build_mesh
+from deckbridge.model import load
+from deckbridge.quantities import beam_theory_sigma
+from deckbridge.solve import condense_model, solve_path
+
+N_THETA = 96
+
+
+def _model(files, fmt, *extra):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return load(None, [f"mesh.file={files[fmt]}", f"mesh.sets={files['sets'][fmt]}", "steps.lambda_max=0.3",
+                           "steps.increments=1", "outputs.vtu=false", *extra])
+
+
+def _solve(files, fmt):
+    """(model, mesh, sigma_N of the table rows, forces, table xyz, lambda) at lambda = 0.3."""
+    m = _model(files, fmt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mesh, system = condense_model(m)
+        sol = solve_path(m, system, "lagrange")
+    p = system.problem
+    tab = p.contact_surface == "table"
+    assert sol.closed[-1][tab].all()
+    return m, mesh, sol.sigma_n[-1][tab], sol.force[-1][tab], p.nodes[p.contact_nodes[tab]], sol.load_factor[-1]
+
+
+def _beam_error(m, mesh, s, lam) -> tuple[float, int]:
+    """Largest |through-wall mean - beam theory| / peak over the corner azimuths, and their count."""
+    R, t = m.geometry.radius, m.geometry.thickness
+    th, r = mesh.table.theta_deg, mesh.table.r
+    peak = abs(beam_theory_sigma(m.loads.N, lam * m.base_moment, R, t, 180.0))
+    errs = []
+    for a in np.unique(th):
+        i = np.flatnonzero(th == a)
+        if i.size != 5 or abs((a * N_THETA / 360 + 0.5) % 1 - 0.5) > 1e-4:   # corner azimuths only
+            continue
+        i = i[np.argsort(r[i])]
+        wall = simpson(s[i], x=r[i]) / t
+        errs.append(abs(wall - beam_theory_sigma(m.loads.N, lam * m.base_moment, R, t, a - m.loads.azimuth)) / peak)
+    return max(errs), len(errs)
+
+
+def _balance(m, f, xyz, lam):
+    assert f.sum() == pytest.approx(m.loads.N, rel=1e-9)                     # Sum F = N
+    assert abs((f * xyz[:, 0]).sum()) == pytest.approx(lam * m.base_moment, rel=1e-9)   # moment about y
+    assert abs((f * xyz[:, 1]).sum()) < 1e-9 * lam * m.base_moment
+
+
+@pytest.fixture(scope="module")
+def hex20_files(tmp_path_factory):
+    return gmsh_quadratic(tmp_path_factory.mktemp("hex20"), "hex20", n_theta=N_THETA, n_z=6, n_r=2)
+
+
+def test_gmsh_hex20_in_three_formats_against_beam_theory(hex20_files):
+    out = {}
+    for fmt in ("msh", "inp", "bdf"):
+        m, mesh, s, f, xyz, lam = _solve(hex20_files, fmt)
+        assert mesh.element == "c3d20" and mesh.hexes.shape == (hex20_files["n_elements"], 20)
+        assert (mesh.n_theta, mesh.n_r, mesh.n_z) == (N_THETA, 2, 6)
+        err, n = _beam_error(m, mesh, s, lam)
+        assert n == N_THETA and err < (0.002 if fmt == "bdf" else 0.0012), (fmt, err)
+        _balance(m, f, xyz, lam)
+        out[fmt] = s
+    peak = np.abs(out["msh"]).max()
+    assert np.abs(out["inp"] - out["msh"]).max() < 1e-8 * peak        # measured 1.8e-10
+    assert np.abs(out["bdf"] - out["msh"]).max() < 1e-3 * peak        # 8-character GRID fields: 3.6e-4
+
+
+def test_gmsh_tet10_against_beam_theory(tmp_path):
+    files = gmsh_quadratic(tmp_path, "tet10", n_theta=N_THETA, n_z=6, n_r=2)
+    m, mesh, s, f, xyz, lam = _solve(files, "msh")
+    assert mesh.element == "c3d10" and mesh.hexes.shape == (files["n_elements"], 10)
+    err, n = _beam_error(m, mesh, s, lam)
+    assert n == N_THETA and err < 0.005, err                           # measured 0.0041
+    _balance(m, f, xyz, lam)
+
+
+def test_gmsh_hex27_is_read_as_hex20_and_its_bdf_refused(tmp_path, hex20_files):
+    """Without Mesh.SecondOrderIncomplete Gmsh writes 27-node bricks: read as the same C3D20 mesh (face and
+    centre nodes dropped, warned); its .bdf (a 27-node CHEXA, which Nastran has not) is refused in one line."""
+    files = gmsh_quadratic(tmp_path, "hex27", n_theta=N_THETA, n_z=6, n_r=2)
+    with pytest.warns(UserWarning, match="27-node hexahedra read as 20-node"):
+        mesh27 = build_mesh(_model(files, "inp"))
+    mesh20 = build_mesh(_model(hex20_files, "inp"))
+    assert mesh27.hexes.shape == mesh20.hexes.shape
+    np.testing.assert_allclose(mesh27.nodes[mesh27.hexes], mesh20.nodes[mesh20.hexes], atol=1e-12)
+    np.testing.assert_allclose(mesh27.table.area.sum(), mesh20.table.area.sum(), rtol=1e-12)
+    with pytest.raises(ModelError, match="CHEXA has at most 20 nodes.*SecondOrderIncomplete") as err:
+        build_mesh(_model(files, "bdf"))
+    assert "\n" not in str(err.value)
+
+
+def test_permuted_node_order_is_refused_in_one_line(tmp_path, hex20_files):
+    """Two mid-side nodes of one C3D20 exchanged in the .inp: refused, naming the element."""
+    text = hex20_files["inp"].read_text().splitlines()
+    at = next(k for k, ln in enumerate(text) if ln.upper().startswith("*ELEMENT, TYPE=C3D20"))
+    row = text[at + 1].rstrip(",").split(",") + text[at + 2].rstrip(",").split(",")
+    eid, nodes = row[0], [v.strip() for v in row[1:] if v.strip()]
+    nodes[8], nodes[9] = nodes[9], nodes[8]
+    text[at + 1] = ", ".join([eid] + nodes[:15]) + ","
+    text[at + 2] = ", ".join(nodes[15:])
+    bad = tmp_path / "skirt.inp"
+    bad.write_text("\n".join(text) + "\n")
+    with pytest.raises(ModelError, match=rf"element {eid.strip()} \(C3D20\): node 9 is not near the mid-point") as err:
+        build_mesh(_model({"inp": bad, "sets": hex20_files["sets"]}, "inp"))
+    assert "\n" not in str(err.value)
