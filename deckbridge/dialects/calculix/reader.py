@@ -115,6 +115,8 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
             raise DeckbridgeError(f"{str(inp)!r}: deck of a mesh with {job['n_nodes']} nodes, model "
                                   f"{model.name!r} has {n_nodes}: results of another model?")
         lam = model.steps.lambda_max
+        if mesh.quadratic_faces:   # RF / A is no pressure on 8-/6-node faces (a corner carries -1/12 of it)
+            table_from = "cpress"
     elif meta_slaves is not None:
         sl = meta_slaves
         lam = float(job.get("lambda_max", 1.0))
