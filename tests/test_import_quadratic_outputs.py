@@ -91,3 +91,25 @@ def test_run_on_parametric_quadratic_skirts(tmp_path, element, vtk, per_cell):
         if step == 1:
             assert (d.szz_mean_pa * d.area_m2).sum() == pytest.approx(-m.loads.N, rel=1e-4)
     assert (tmp_path / "out" / "report.html").stat().st_size > 0
+
+
+def test_run_with_ccx_on_gmsh_hex20_under_n(tmp_path):
+    """``run --with-ccx`` on the Gmsh-written C3D20 skirt (48 x 3 x 1), N alone (the moment case is ccx's mortar
+    on quadratic faces, another piece of work), no radial stop (its GAPUNI gaps are node-based): ccx's mortar
+    pressure -CPRESS is uniform at -N / (2 pi R t) (measured -14.3234 MPa against -14.3239 MPa), read into the
+    comparison and its ParaView series with the file's 20-node cells. Before, every corner node read as tension
+    (RF / A on a corner that carries -1/12 of a pressure) and the ccx wall reader stopped the run."""
+    import json
+    files = gmsh_quadratic(tmp_path / "mesh", "hex20", n_theta=48, n_z=3, n_r=1)
+    m = _imported(files, "contact.stop.side=none", "loads.M=0", "loads.T=0", "steps.increments=1")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run(m, tmp_path / "out", with_ccx=True, methods=("lagrange",))
+    exact = -m.loads.N / (2 * np.pi * m.geometry.radius * m.geometry.thickness)
+    ccx = json.loads((tmp_path / "out" / "summary.json").read_text())["sources"]["ccx/mortar"]
+    assert ccx["peak_compression_pa"] == pytest.approx(exact, rel=5e-4)
+    assert ccx["peak_node_sigma_n_pa"] == pytest.approx(exact, rel=5e-4)
+    v = meshio.read(sorted((tmp_path / "out" / "ccx").glob("*_ccx_lagrange_*.vtu"))[-1])
+    assert [(c.type, len(c.data)) for c in v.cells] == [("hexahedron20", files["n_elements"])]
+    s = np.asarray(v.point_data["table_sigma_n_pa"])[np.asarray(v.point_data["table_slave"]) > 0]
+    assert np.allclose(s, exact, rtol=5e-4)
