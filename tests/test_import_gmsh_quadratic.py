@@ -156,3 +156,34 @@ def test_gmsh_hex20_equals_the_parametric_hex20_skirt(hex20_files):
     assert np.allclose(r[chord], m.geometry.radius * np.cos(np.radians(360 / N_THETA / 2)), atol=1e-9)
     err = np.abs(s - ps[at]).max() / np.abs(ps).max()
     assert err < EPS, err
+
+
+def test_c3d20r_in_the_file_solves_as_hex20r(tmp_path, hex20_files):
+    """The .inp's element type names the integration: C3D20R -> the reference's c3d20r (8 Gauss points)."""
+    text = hex20_files["inp"].read_text().replace("type=C3D20,", "type=C3D20R,")
+    (tmp_path / "skirt.inp").write_text(text)
+    mesh = build_mesh(_model({"inp": tmp_path / "skirt.inp", "sets": hex20_files["sets"]}, "inp"))
+    assert mesh.element == "c3d20r" and mesh.hexes.shape[1] == 20
+
+
+@pytest.mark.parametrize("element", ["tet10", "hex20", "wedge15"])
+def test_wholly_inverted_elements_are_mirrored_with_a_warning(element):
+    """Elements whose every Jacobian is negative (a mesher's mirrored order, all mid-sides mid-edge) are read
+    mirrored: the same node sets per element, positive volumes, a warning with their count."""
+    from deckbridge.importers.node_order import mirror_order
+    from deckbridge.importers.quadratic import check_node_order
+    from deckbridge.mesh_order import skirt_cells
+    from reference_solver.elements import element_type
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = load(None, [f"mesh.element={element}", "mesh.n_theta=24", "mesh.n_z=2", "mesh.n_r=1"])
+    nodes, cells, _ = skirt_cells(m)
+    et = element_type(element)
+    bad = cells.copy()
+    bad[[3, 7]] = cells[[3, 7]][:, mirror_order(et)]
+    ids = np.arange(1, len(cells) + 1)
+    with pytest.warns(UserWarning, match=rf"2 of {len(cells)} C3D\w+ elements were inverted"):
+        fixed = check_node_order(nodes, bad, et.name, ids)
+    assert (np.sort(fixed, axis=1) == np.sort(cells, axis=1)).all()
+    np.testing.assert_allclose(et.volume_weights(nodes[fixed]).sum(1), et.volume_weights(nodes[cells]).sum(1),
+                               rtol=1e-12)
