@@ -35,12 +35,14 @@ def gmsh_skirt(outdir: Path, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=1):
             "node_ids": nids[keep], "xyz": xyz[keep], "elem_ids": eids, "conn": conn, "sets": sets}
 
 
-def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius=None, scale=1.0, recombine=True) -> dict:
+def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius=None, scale=1.0, recombine=True,
+                 recombine_section=None) -> dict:
     """The Gmsh model of :func:`gmsh_skirt` (geometry, transfinite meshing constraints, physical groups
     SKIRT (volumes), BASE and TOP (faces)), not yet meshed: R, t, H [m], ``top_radius`` the mid-wall radius at the
     top (a cone: the revolved section is a parallelogram; None: R), coordinates times ``scale`` (1000: mm).
     ``recombine`` False: the section is meshed in triangles and revolved into tetrahedra (Gmsh splits each
-    extruded prism into three). Returns the physical group tags {'BASE': tag, 'TOP': tag}."""
+    extruded prism into three); ``recombine_section`` (default: ``recombine``) False with ``recombine`` True:
+    triangles revolved into prisms. Returns the physical group tags {'BASE': tag, 'TOP': tag}."""
     s, rt = scale, (R if top_radius is None else top_radius)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.model.add("skirt")
@@ -53,7 +55,7 @@ def _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, top_radius=None, scale=1.0, r
     for ln, n in zip(lines, (n_r, n_z, n_r, n_z)):
         geo.mesh.setTransfiniteCurve(ln, n + 1)
     geo.mesh.setTransfiniteSurface(surf)
-    if recombine:
+    if recombine if recombine_section is None else recombine_section:
         geo.mesh.setRecombine(2, surf)
     vols, bottoms, tops = [], [], []
     cur = (2, surf)
@@ -194,7 +196,7 @@ def _files_in_this_process(outdir: Path, R, t, H, n_theta, n_z, n_r, top_radius,
         gmsh.finalize()
 
 
-QUADRATIC_KINDS = ("hex20", "hex27", "tet10")
+QUADRATIC_KINDS = ("hex20", "hex27", "tet10", "wedge15")
 
 
 def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=2,
@@ -202,7 +204,8 @@ def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_th
     """A second-order skirt meshed as an analyst does it with the Gmsh API: mesh the tube first order,
     then ``gmsh.model.mesh.setOrder(2)``; ``kind`` 'hex20' (recombined, ``Mesh.SecondOrderIncomplete`` 1),
     'hex27' (recombined, the option left at its default 0: 27-node hexahedra), 'tet10' (the revolved
-    section not recombined: tetrahedra, in through-wall rows; ``unstructured``: Gmsh's own tetrahedra of
+    section not recombined: tetrahedra, in through-wall rows), 'wedge15' (triangles revolved into recombined
+    prisms, ``Mesh.SecondOrderIncomplete`` 1); ``unstructured``: Gmsh's own tetrahedra of
     the OpenCASCADE tube, target size t). Mid-side nodes lie on the true cylinder. Written by ``gmsh.write``
     as ``skirt.msh`` (4.1), ``skirt.inp`` (``Mesh.SaveGroupsOfNodes``: *NSET BASE / TOP) and ``skirt.bdf``, plus
     ``base.txt`` / ``top.txt`` (the .bdf carries no sets). Returns {'msh', 'inp', 'bdf': path, 'sets': {fmt:
@@ -227,10 +230,11 @@ def _quadratic_in_this_process(outdir: Path, kind, R, t, H, n_theta, n_z, n_r, u
         if unstructured:
             groups = _occ_tube(gmsh, R, t, H)
         else:
-            groups = _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, recombine=kind != "tet10")
+            groups = _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, recombine=kind != "tet10",
+                                  recombine_section=kind not in ("tet10", "wedge15"))
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.removeDuplicateNodes()
-        if kind == "hex20":
+        if kind in ("hex20", "wedge15"):
             gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 1)
         gmsh.model.mesh.setOrder(2)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)

@@ -25,6 +25,9 @@ def read_msh(path: Path) -> RawMesh:
     from ..errors import ModelError
     try:
         m = meshio.read(str(path), file_format="gmsh")
+    except KeyError as exc:    # an element type meshio's Gmsh reader has no node order for (15-node prisms)
+        raise ModelError("mesh.file", str(path), f"meshio cannot read Gmsh elements of type {exc}: write the mesh as "
+                         ".inp or .bdf (gmsh.write('skirt.inp'))") from None
     except Exception as exc:   # meshio raises plain exceptions of many kinds on bad files
         raise ModelError("mesh.file", str(path), f"unreadable Gmsh file ({type(exc).__name__}: {exc})") from None
     elements: dict = {}
