@@ -1,7 +1,14 @@
 """A Gmsh-written quadratic skirt (C3D20 .inp) through ``run`` (reference Lagrange, face-weighted): the ParaView
 series holds the file's 20-node cells (VTK_QUADRATIC_HEXAHEDRON, read back with meshio) and the table's sigma_N of
 the contact table; and pads on 10-/15-/20-node skirts, parametric or imported, are refused in one line (issue 23:
-the pad faces of a quadratic base are not built yet)."""
+the pad faces of a quadratic base are not built yet).
+
+Pads were tried on the parametric skirts (each table face standing for its coarse cell's 8-node base face in
+``supports.pad_face_mask``; 48 x 6 x 1, 4 pads of 30 deg, kinematic top, N alone, Lagrange): each pad's reaction is
+N / 4 to 2e-12 and the projected pressure integrates to it (int sigma_N dA with the consistent face M, 1e-9), but
+the face-weighted law marks 44 of 92 (hex20) and 68 of 108 (tet10) pad nodes open at +2 um gaps under compressive
+sigma_N near the pad edges (without pads: none open), so they stay refused until that law is verified past
+liftoff."""
 
 from __future__ import annotations
 
