@@ -208,7 +208,8 @@ def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_th
     prisms, ``Mesh.SecondOrderIncomplete`` 1); ``unstructured``: Gmsh's own tetrahedra of
     the OpenCASCADE tube, target size t). Mid-side nodes lie on the true cylinder. Written by ``gmsh.write``
     as ``skirt.msh`` (4.1), ``skirt.inp`` (``Mesh.SaveGroupsOfNodes``: *NSET BASE / TOP) and ``skirt.bdf``, plus
-    ``base.txt`` / ``top.txt`` (the .bdf carries no sets). Returns {'msh', 'inp', 'bdf': path, 'sets': {fmt:
+    ``base.txt`` / ``top.txt`` (the .bdf carries no sets), and ``skirt_large.bdf`` (``Mesh.BdfFieldFormat`` 2:
+    large-field cards). Returns {'msh', 'inp', 'bdf', 'bdf_large': path, 'sets': {fmt:
     the model's mesh.sets value}, 'n_elements': int, 'nodes_per_element': int}."""
     assert kind in QUADRATIC_KINDS, kind
     outdir = Path(outdir)
@@ -219,7 +220,9 @@ def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_th
     info = json.loads((outdir / "gmsh_info.json").read_text())
     sets = {"msh": "{base: BASE, top: TOP}", "inp": "{base: BASE, top: TOP}",
             "bdf": "{base: base.txt, top: top.txt}"}
-    return {**{f: outdir / f"skirt.{f}" for f in ("msh", "inp", "bdf")}, "sets": sets, **info}
+    sets["bdf_large"] = sets["bdf"]
+    return {**{f: outdir / f"skirt.{f}" for f in ("msh", "inp", "bdf")}, "bdf_large": outdir / "skirt_large.bdf",
+            "sets": sets, **info}
 
 
 def _quadratic_in_this_process(outdir: Path, kind, R, t, H, n_theta, n_z, n_r, unstructured) -> None:
@@ -241,6 +244,8 @@ def _quadratic_in_this_process(outdir: Path, kind, R, t, H, n_theta, n_z, n_r, u
         gmsh.option.setNumber("Mesh.SaveGroupsOfNodes", 1)
         for fmt in ("msh", "inp", "bdf"):
             gmsh.write(str(outdir / f"skirt.{fmt}"))
+        gmsh.option.setNumber("Mesh.BdfFieldFormat", 2)          # large-field GRID* cards (16 characters)
+        gmsh.write(str(outdir / "skirt_large.bdf"))
         for name, tag in groups.items():
             ids = gmsh.model.mesh.getNodesForPhysicalGroup(2, tag)[0]
             (outdir / f"{name.lower()}.txt").write_text("\n".join(str(int(i)) for i in ids) + "\n")

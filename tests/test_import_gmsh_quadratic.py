@@ -8,7 +8,8 @@ peak. Measured: hex20 0.00089 (.msh, .inp), 0.0014 (.bdf), tet10 0.0041 (.msh); 
 grid gives hex20 0.0008, tet10 0.0040 (tests/test_face_weighted_skirt.py). The table forces add up to N (2e-13)
 and their moment about the axis' normal to the load plane is lambda M (1e-9). The .msh and .inp give the same
 sigma_N to 1.8e-10 of the peak (the .inp's 14 significant digits); the .bdf to 3.6e-4, since Gmsh writes
-small-field GRID cards (8 characters: radii 1.4999974 m, thickness 0.0199992 m measured).
+small-field GRID cards (8 characters: radii 1.4999974 m, thickness 0.0199992 m measured); with
+``Mesh.BdfFieldFormat = 2`` (GRID*, 8 decimals) to 2.7e-7.
 """
 
 from __future__ import annotations
@@ -80,7 +81,7 @@ def hex20_files(tmp_path_factory):
 
 def test_gmsh_hex20_in_three_formats_against_beam_theory(hex20_files):
     out = {}
-    for fmt in ("msh", "inp", "bdf"):
+    for fmt in ("msh", "inp", "bdf", "bdf_large"):
         m, mesh, s, f, xyz, lam = _solve(hex20_files, fmt)
         assert mesh.element == "c3d20" and mesh.hexes.shape == (hex20_files["n_elements"], 20)
         assert (mesh.n_theta, mesh.n_r, mesh.n_z) == (N_THETA, 2, 6)
@@ -91,6 +92,7 @@ def test_gmsh_hex20_in_three_formats_against_beam_theory(hex20_files):
     peak = np.abs(out["msh"]).max()
     assert np.abs(out["inp"] - out["msh"]).max() < 1e-8 * peak        # measured 1.8e-10
     assert np.abs(out["bdf"] - out["msh"]).max() < 1e-3 * peak        # 8-character GRID fields: 3.6e-4
+    assert np.abs(out["bdf_large"] - out["msh"]).max() < 2e-6 * peak  # GRID* with 8 decimals: 2.7e-7
 
 
 def test_gmsh_tet10_against_beam_theory(tmp_path):
