@@ -200,13 +200,13 @@ QUADRATIC_KINDS = ("hex20", "hex27", "tet10", "wedge15")
 
 
 def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=2,
-                   unstructured: bool = False) -> dict:
+                   unstructured: bool = False, size: float | None = None) -> dict:
     """A second-order skirt meshed as an analyst does it with the Gmsh API: mesh the tube first order,
     then ``gmsh.model.mesh.setOrder(2)``; ``kind`` 'hex20' (recombined, ``Mesh.SecondOrderIncomplete`` 1),
     'hex27' (recombined, the option left at its default 0: 27-node hexahedra), 'tet10' (the revolved
     section not recombined: tetrahedra, in through-wall rows), 'wedge15' (triangles revolved into recombined
     prisms, ``Mesh.SecondOrderIncomplete`` 1); ``unstructured``: Gmsh's own tetrahedra of
-    the OpenCASCADE tube, target size t). Mid-side nodes lie on the true cylinder. Written by ``gmsh.write``
+    the OpenCASCADE tube, largest size ``size``, default t). Mid-side nodes lie on the true cylinder. Written by ``gmsh.write``
     as ``skirt.msh`` (4.1), ``skirt.inp`` (``Mesh.SaveGroupsOfNodes``: *NSET BASE / TOP) and ``skirt.bdf``, plus
     ``base.txt`` / ``top.txt`` (the .bdf carries no sets), and ``skirt_large.bdf`` (``Mesh.BdfFieldFormat`` 2:
     large-field cards). Returns {'msh', 'inp', 'bdf', 'bdf_large': path, 'sets': {fmt:
@@ -215,7 +215,7 @@ def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_th
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     args = json.dumps({"quadratic": kind, "outdir": str(outdir), "R": R, "t": t, "H": H, "n_theta": n_theta,
-                       "n_z": n_z, "n_r": n_r, "unstructured": unstructured})
+                       "n_z": n_z, "n_r": n_r, "unstructured": unstructured, "size": size})
     subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
     info = json.loads((outdir / "gmsh_info.json").read_text())
     sets = {"msh": "{base: BASE, top: TOP}", "inp": "{base: BASE, top: TOP}",
@@ -225,13 +225,13 @@ def gmsh_quadratic(outdir: Path, kind: str = "hex20", R=1.5, t=0.02, H=2.0, n_th
             "sets": sets, **info}
 
 
-def _quadratic_in_this_process(outdir: Path, kind, R, t, H, n_theta, n_z, n_r, unstructured) -> None:
+def _quadratic_in_this_process(outdir: Path, kind, R, t, H, n_theta, n_z, n_r, unstructured, size=None) -> None:
     """The Gmsh part of :func:`gmsh_quadratic` (child process)."""
     import gmsh
     gmsh.initialize(["-noenv"])
     try:
         if unstructured:
-            groups = _occ_tube(gmsh, R, t, H)
+            groups = _occ_tube(gmsh, R, t, H, size or t)
         else:
             groups = _skirt_model(gmsh, R, t, H, n_theta, n_z, n_r, recombine=kind != "tet10",
                                   recombine_section=kind not in ("tet10", "wedge15"))
@@ -257,8 +257,8 @@ def _quadratic_in_this_process(outdir: Path, kind, R, t, H, n_theta, n_z, n_r, u
     (outdir / "gmsh_info.json").write_text(json.dumps(info))
 
 
-def _occ_tube(gmsh, R, t, H) -> dict:
-    """The tube R -+ t/2, 0 <= z <= H as an OpenCASCADE solid, Gmsh's default tetrahedra of size t;
+def _occ_tube(gmsh, R, t, H, size) -> dict:
+    """The tube R -+ t/2, 0 <= z <= H as an OpenCASCADE solid, Gmsh's default tetrahedra of size ``size``;
     physical groups SKIRT, BASE (the face at z = 0), TOP (z = H)."""
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.model.add("tube")
@@ -267,8 +267,8 @@ def _occ_tube(gmsh, R, t, H) -> dict:
     inner = occ.addCylinder(0, 0, 0, 0, 0, H, R - t / 2)
     vol, _ = occ.cut([(3, outer)], [(3, inner)])
     occ.synchronize()
-    gmsh.option.setNumber("Mesh.MeshSizeMax", t)
-    gmsh.option.setNumber("Mesh.MeshSizeMin", t / 2)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", size / 2)
     faces = {"BASE": [], "TOP": []}
     for dim, tag in gmsh.model.getBoundary(vol, oriented=False):
         z = gmsh.model.occ.getCenterOfMass(dim, tag)[2]
