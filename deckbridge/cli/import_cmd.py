@@ -40,7 +40,10 @@ def import_cmd(mesh, out, base, top, stop, units, name, overrides, like, force):
     from ..dialects import DIALECTS
     from ..mesh import build_mesh
     mesh = build_mesh(model)
+    from ..deck_elements import element_problem
     for d in DIALECTS.values():
+        if element_problem(d.name, model, mesh):   # no decks of this dialect for these cells (run and decks say so)
+            continue
         why = d.id_problem(mesh)
         if why:
             click.echo(f"note: {d.name} decks cannot carry this mesh's ids: {why}")
