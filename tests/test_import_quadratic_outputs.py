@@ -68,9 +68,18 @@ def test_pads_on_parametric_quadratic_skirts_are_refused_in_one_line(element):
     assert "\n" not in str(err.value)
 
 
-def test_pads_on_an_imported_quadratic_mesh_are_refused_in_one_line(tmp_path):
-    files = gmsh_quadratic(tmp_path, "tet10", n_theta=96, n_z=2, n_r=1)   # coarser: the wall's curvature
+def test_import_cli_on_gmsh_tet10_and_its_pads_refused_in_one_line(tmp_path):
+    """``deckbridge import`` of a Gmsh C3D10 skirt writes the model and measures it (it stopped after writing it,
+    in the Nastran surface deck's layer builder, which takes 8-node hexahedra only); pads are refused."""
+    from click.testing import CliRunner
+    from deckbridge.cli import main
+    files = gmsh_quadratic(tmp_path, "tet10", n_theta=96, n_z=2, n_r=1)   # not 24: there the curvature
     # (sagitta of a 15 deg edge, 13 mm) exceeds the 20 mm wall's half and Gmsh's curved tetrahedra invert
+    r = CliRunner().invoke(main, ["import", str(files["inp"]), "-o", str(tmp_path / "m.yaml"), "--base", "BASE",
+                                  "--top", "TOP"])
+    assert r.exit_code == 0, r.output
+    assert "R = 1.5 m, t = 0.02 m, H = 2 m" in r.output
+    assert build_mesh(load(str(tmp_path / "m.yaml"))).element == "c3d10"
     with pytest.raises(ModelError, match=r"^contact.pads = 'set': needs 8-node hexahedra in an imported mesh "
                                          r"\(not C3D10\)") as err:
         build_mesh(_imported(files, PADS))
