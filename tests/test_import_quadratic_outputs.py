@@ -50,6 +50,8 @@ def test_run_on_gmsh_hex20_writes_quadratic_cells_and_the_table_sigma(tmp_path):
     series = sorted(ref.glob("result_*.vtu"))
     v = meshio.read(series[-1])
     assert [(c.type, len(c.data)) for c in v.cells] == [("hexahedron20", files["n_elements"])]
+    from deckbridge.importers.node_order import node_order_problem
+    assert node_order_problem(np.asarray(v.points), v.cells[0].data, "c3d20") is None
     ids = np.asarray(v.point_data["node_id"], np.int64)
     at = {int(n): i for i, n in enumerate(ids)}
     mesh = build_mesh(m)
@@ -100,6 +102,8 @@ def test_run_on_parametric_quadratic_skirts(tmp_path, element, vtk, per_cell):
     ref = tmp_path / "out" / "reference_lagrange"
     v = meshio.read(sorted(ref.glob("result_*.vtu"))[-1])
     assert [(c.type, len(c.data)) for c in v.cells] == [(vtk, per_cell * 48 * 3)]
+    from deckbridge.importers.node_order import node_order_problem    # VTK's quadratic order is CalculiX's:
+    assert node_order_problem(np.asarray(v.points), v.cells[0].data, element) is None   # mid-sides mid-edge, J > 0
     wall = pd.read_csv(ref / "wall_stress.csv")
     section = 2 * np.pi * m.geometry.radius * m.geometry.thickness
     for (step, _), d in wall.groupby(["step", "increment"]):
