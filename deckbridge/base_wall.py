@@ -86,7 +86,9 @@ def base_wall(nodes: np.ndarray, bottom_hexes: np.ndarray, s_axial_nodal: np.nda
     uth, counts = np.unique(th, return_counts=True)
     uth = centres[uth]
     if np.any(counts != counts[0]) or counts[0] < 2:
-        raise DeckbridgeError("bottom_hexes: base nodes do not form the same through-wall row at every azimuth")
+        raise DeckbridgeError("bottom_hexes: base nodes do not form the same through-wall row at every azimuth "
+                              "(an unstructured base such as Gmsh's plain tetrahedra has no rows: the wall table "
+                              "needs them; solve and liftoff do not)")
     shape = (uth.size, int(counts[0]))
     nd, rr = base.reshape(shape), rad.reshape(shape)
     s = np.asarray(s_axial_nodal, float)[nd]
