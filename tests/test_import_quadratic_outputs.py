@@ -113,6 +113,7 @@ def test_run_on_parametric_quadratic_skirts(tmp_path, element, vtk, per_cell):
     assert (tmp_path / "out" / "report.html").stat().st_size > 0
 
 
+@pytest.mark.ccx
 def test_run_with_ccx_on_gmsh_hex20_under_n(tmp_path):
     """``run --with-ccx`` on the Gmsh-written C3D20 skirt (48 x 3 x 1), N alone (the moment case is ccx's mortar
     on quadratic faces, another piece of work), no radial stop (its GAPUNI gaps are node-based): ccx's mortar
