@@ -178,8 +178,12 @@ class LagrangeLaw(ContactLaw):
         return 0.0 - (W.E @ W.to_pressure(np.asarray(force, float).T)).T
 
     def track(self, lo, lam_lo, lam_hi, dcoeffs, watch):
+        """Exact onset: the piecewise-linear path of the LCP; face-weighted, in its own variables (weighted gaps
+        g~ = D (c0 + x), multipliers lambda = D^-T r, load rate D^-T f'), whose rows open when lambda hits 0."""
         if self.weighted is not None:
-            return None                                        # the driver bisects
+            W = self.weighted
+            return track_lagrange(W.S, W.to_pressure(self.load(dcoeffs)), lam_lo, lam_hi, W.weigh(self.c0 + lo.x),
+                                  W.to_pressure(lo.p), lo.active, watch, solver=self.solver)
         return track_lagrange(self.system.Sc, self.load(dcoeffs), lam_lo, lam_hi, self.c0 + lo.x, lo.p, lo.active,
                               watch, solver=self.solver)
 
