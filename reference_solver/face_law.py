@@ -91,6 +91,8 @@ class FaceWeighting:
         self.D = weighting_matrix(problem)
         self._lu = spla.splu(self.D)
         self.E = field_matrix(problem)
+        E = self.E.tocsr()
+        self.own = (np.diff(E.indptr) == 1) & (E.diagonal() == 1.0)   # rows whose field value is their own lambda
         Y = self.to_pressure(np.asarray(Sc))              # D^-T S
         St = self.to_pressure(Y.T).T                       # (D^-T S^T D^-1)^T = D^-T S D^-1 (S symmetric)
         self.S = 0.5 * (St + St.T)

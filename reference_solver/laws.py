@@ -9,6 +9,8 @@ A law is bound to a condensed system (``law = LAWS[method](system, k_factor, alg
   increment back; ``depth`` = cutbacks so far) or ``GrossSlip``;
 - ``track(lo, lam_lo, lam_hi, dcoeffs, watch)`` the exact onset ``(lambda, row)`` inside a bracket by
   following the piecewise-linear path (:mod:`reference_solver.onset`), or None (the driver bisects);
+- ``onset_watch(watch)`` the watched rows whose opening is a liftoff (default: all of ``watch``), ``lifted(state,
+  watch)`` (optional) which of them are lifted in a state (default: gap > 0 and not closed, onset.lifted_rows);
 - ``arrays(states)`` the per-increment arrays of :class:`reference_solver.solution.Solution`;
 - ``retained(states)`` the retained displacements that ``system.recover`` turns into fields.
 
@@ -75,6 +77,10 @@ class ContactLaw:
 
     def track(self, lo: State, lam_lo: float, lam_hi: float, dcoeffs: np.ndarray, watch: np.ndarray):
         return None
+
+    def onset_watch(self, watch: np.ndarray) -> np.ndarray:
+        """The rows of ``watch`` (bool per contact row) whose opening is a liftoff: all of them."""
+        return watch
 
     def checked(self, u, force, closed, its, **extra) -> State:
         if not (np.all(np.isfinite(u)) and np.all(np.isfinite(force))):
@@ -169,6 +175,22 @@ class LagrangeLaw(ContactLaw):
         lam = np.where(closed, W.S @ gw + q, 0.0)
         return self.checked(g - self.c0, W.to_force(lam), closed, its,
                             penetration=float(max(0.0, -g.min(initial=0.0))))
+
+    def onset_watch(self, watch):
+        """Face-weighted: the rows where the pressure field's nodal value is the row's own multiplier (corners,
+        rows off 8-/6-node faces). A mid-side's value (1 - 2 alpha) lambda_m + alpha (lambda_c1 + lambda_c2)
+        vanishes only once its corners' rows are open too, so the first node whose pressure reaches 0 is one of
+        these; a mid-side row that opens while its corners press is the weak (weighted) contact condition, not
+        a lift (face_law.py)."""
+        return watch if self.weighted is None else watch & self.weighted.own
+
+    def lifted(self, st, watch):
+        """Bool per row: watched and lifted. Face-weighted: an :meth:`onset_watch` row that is open (lambda = 0,
+        weighted gap > 0): the pressure field is 0 at its node; its nodal gap D^-1 g~ may still be <= 0 by
+        the weak condition's ~1e-3 of the open gaps. Nodal: gap > 0 and not closed."""
+        if self.weighted is None:
+            return watch & (self.c0 + st.x[:self.c0.size] > 0) & ~st.active
+        return self.onset_watch(watch) & ~st.active
 
     def sigma_n(self, force):
         """Face-weighted: the pressure field's nodal values -E lambda, lambda = D^-T r (face_law.py)."""
