@@ -28,6 +28,7 @@ import scipy.sparse.linalg as spla
 from .face_weights import face_matrix, surface_faces
 
 WEIGHTINGS = ("nodal", "face", "face-lumped")
+MULTIPLIER_BASIS = "hat"          # 'hat' (non-negative, face_weights.hat_mortar) | 'modified' (Popp et al.)
 
 
 def weighting_matrix(p) -> sp.csc_matrix:
@@ -45,7 +46,7 @@ def weighting_matrix(p) -> sp.csc_matrix:
         faces = surface_faces(p.blocks, on)
         if not faces:
             continue
-        surf, M = face_matrix(p.nodes, faces, lumped=lumped, modified=not lumped)
+        surf, M = face_matrix(p.nodes, faces, lumped=lumped, modified=False if lumped else MULTIPLIER_BASIS)
         row_of = np.full(p.n_nodes, -1)
         row_of[p.contact_nodes[idx]] = idx
         r = row_of[surf]                                  # every surf node is a row of this surface
@@ -63,7 +64,7 @@ def field_matrix(p) -> sp.csr_matrix:
     lambda, a mid-side's (1 - 2 alpha) lambda_m + alpha (lambda_c1 + lambda_c2); identity off 8-/6-node faces."""
     from .face_weights import multiplier_basis
     entries: dict = {}
-    if p.contact_weighting == "face":
+    if p.contact_weighting == "face" and MULTIPLIER_BASIS == "modified":
         row_of = np.full(p.n_nodes, -1)
         for label in np.unique(p.contact_surface):
             idx = np.flatnonzero(p.contact_surface == label)
