@@ -14,7 +14,6 @@ from __future__ import annotations
 import json
 import math
 import time
-import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -47,10 +46,9 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     mesh = mesh or build_mesh(model)
     weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face-weighted Lagrange (face_law.py)
     if mesh.quadratic_faces:
-        from .mesh_order import QUADRATIC_REFUSED, QUADRATIC_UNVERIFIED
+        from .mesh_order import QUADRATIC_REFUSED
         if model.contact.tangential == "friction":
             raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
-        warnings.warn(f"mesh.element = {model.mesh.element}: {QUADRATIC_UNVERIFIED}", UserWarning, stacklevel=2)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()

@@ -128,7 +128,8 @@ def face_matrix(nodes: np.ndarray, faces, lumped: bool = False,
                 modified: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
     """Surface nodes (m,) and the assembled M (m x m, CSR) [m^2] of ``faces`` [(face type, conn), ...]
     (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead; ``modified``: the mortar matrix
-    D_ab = int Phi_a N_b dA of the :func:`multiplier_basis` (not symmetric on 8-/6-node faces)."""
+    D_ab = int Phi_a N_b dA (not symmetric on 8-/6-node faces) of the :func:`multiplier_basis` (True or
+    'modified') or of the hat basis ('hat', :func:`hat_mortar`; 4-/3-node faces keep M)."""
     if not faces:
         raise ReferenceSolverError("contact surface: no element face has all its nodes on it")
     nodes = np.asarray(nodes, float)

@@ -177,11 +177,10 @@ class LagrangeLaw(ContactLaw):
                             penetration=float(max(0.0, -g.min(initial=0.0))))
 
     def onset_watch(self, watch):
-        """Face-weighted: the rows where the pressure field's nodal value is the row's own multiplier (corners,
-        rows off 8-/6-node faces). A mid-side's value (1 - 2 alpha) lambda_m + alpha (lambda_c1 + lambda_c2)
-        vanishes only once its corners' rows are open too, so the first node whose pressure reaches 0 is one of
-        these; a mid-side row that opens while its corners press is the weak (weighted) contact condition, not
-        a lift (face_law.py)."""
+        """Face-weighted: the rows where the pressure field's nodal value is the row's own multiplier (every row
+        with the hat basis; with the modified one the corners and rows off 8-/6-node faces: a mid-side's value
+        (1 - 2 alpha) lambda_m + alpha (lambda_c1 + lambda_c2) vanishes only once its corners' rows are open, so
+        the first node whose pressure reaches 0 is one of these; face_law.py)."""
         return watch if self.weighted is None else watch & self.weighted.own
 
     def lifted(self, st, watch):
