@@ -208,7 +208,11 @@ def make_law(system, method: str, k_factor: float = 1.0, algorithm: str | None =
     if method not in LAWS:
         raise ReferenceSolverError(f"method = {method!r}: must be one of {', '.join(LAWS)}")
     weighting = system.problem.contact_weighting
+    if weighting == "face" and method == "penalty":             # face-integrated penalty (face_penalty.py)
+        from .face_penalty import FacePenaltyLaw
+        return FacePenaltyLaw(system, k_factor, algorithm)
     if weighting != "nodal" and method != "lagrange":
         raise ReferenceSolverError(f"contact_weighting = {weighting!r}: only the lagrange method has a "
-                                   f"face-weighted law (not {method}); use lagrange")
+                                   f"{weighting}-weighted law (not {method}); use lagrange"
+                                   + (" (or 'face' for penalty)" if method == "penalty" else ""))
     return LAWS[method](system, k_factor, algorithm)
