@@ -35,8 +35,9 @@ quad8: 4 corner triangles + the inner quadrilateral in 4 from the centre; tri3: 
 sigma_N [Pa] (< 0 compression): -r_a / contact_area on 4-/3-node faces (the ccx deck's -F / A); on a problem
 with 8-/6-node faces and ``contact_weighting='face'``, the pressure field of the face-weighted law's
 projection -E D^-T r (:mod:`reference_solver.face_law`), exact (-p) for a uniform pressure p.
-Chosen by ``method='penalty'`` with ``contact_weighting='face'`` (:func:`reference_solver.laws.make_law`;
-:func:`face_weighted` gives a condensed system that weighting without condensing again). Frictionless; onsets are bisected by the driver (``track`` None).
+Chosen by ``method='penalty'`` with ``contact_weighting='face'`` (:data:`reference_solver.laws.WEIGHTED_LAWS`
+read by :func:`reference_solver.laws.make_law`; :func:`face_weighted` gives a condensed system that weighting
+without condensing again). Frictionless; onsets are bisected by the driver (``track`` None).
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ import scipy.sparse as sp
 from .contact import Unbounded
 from .errors import ReferenceSolverError
 from .face_weights import face_shares, multiplier_basis, surface_faces
-from .laws import ContactLaw
+from .laws import WEIGHTED_LAWS, ContactLaw
 
 _A1, _A2 = (6 - np.sqrt(15)) / 21, (6 + np.sqrt(15)) / 21
 _W1, _W2 = (155 - np.sqrt(15)) / 1200, (155 + np.sqrt(15)) / 1200
@@ -211,6 +212,9 @@ class FacePenaltyLaw(ContactLaw):
             return super().sigma_n(force)
         lu, E = self._field
         return 0.0 - (E @ lu.solve(np.asarray(force, float).T, trans="T")).T
+
+
+WEIGHTED_LAWS["face", "penalty"] = FacePenaltyLaw
 
 
 def face_weighted(system):
