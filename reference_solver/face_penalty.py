@@ -32,6 +32,10 @@ quad8: 4 corner triangles + the inner quadrilateral in 4 from the centre; tri3: 
 7-point rule: 28 / 56 / 7 / 28 points a face. On a face where the gap keeps one sign the integral is exact
 (degree <= 5); across the contact edge both codes integrate the kink of max(0, -g) the same way.
 
+Status: a row on a face is closed while an integration point in its support is active (its face pressure
+reaches it: the node carries compression, as ccx's f2f status by force, and the face-weighted Lagrange law's
+by weighted gap), so a node at the contact edge with a small positive gap can be closed; rows off the faces
+by their gap. The driver's liftoff onset is the first row that opens in this sense.
 sigma_N [Pa] (< 0 compression): -r_a / contact_area on 4-/3-node faces (the ccx deck's -F / A); on a problem
 with 8-/6-node faces and ``contact_weighting='face'``, the pressure field of the face-weighted law's
 projection -E D^-T r (:mod:`reference_solver.face_law`), exact (-p) for a uniform pressure p.
@@ -204,7 +208,8 @@ class FacePenaltyLaw(ContactLaw):
         gp = self.G @ g
         e, en = self._stiff(gp, g)
         force = -(self.GT @ (e * gp)) - en * g
-        return self.checked(u, force, g <= 0, it)
+        pressed = (abs(self.GT) @ (gp <= 0).astype(float)) > 0             # an active point in the node's support
+        return self.checked(u, force, np.where(self.fi.on_face, pressed, g <= 0), it)
 
     def sigma_n(self, force):
         """-r / contact_area [Pa]; with 8-/6-node faces and 'face' weighting the projected field -E D^-T r."""
