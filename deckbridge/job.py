@@ -102,7 +102,7 @@ def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float, me
                                    **solution_globals(vtu, method)))
         origins.append(str(folder))
         summaries[method] = summary
-    if wants_f2f(chosen, out / "decks", model.name):   # ccx/f2f's partner: the face-integrated penalty (issue 24)
+    if wants_f2f(model, chosen, out / "decks"):   # ccx/f2f's partner: the face-integrated penalty (issue 24)
         origin = f"{out / 'reference_penalty'} (face-integrated)"
         tables.append(f2f_series(model, mesh, system, origin))
         origins.append(origin)

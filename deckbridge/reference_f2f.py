@@ -22,9 +22,12 @@ from .wall_stress import reference_wall
 METHOD = "f2f"
 
 
-def wants_f2f(chosen, decks_dir: Path, name: str) -> bool:
-    """True when a job runs CalculiX and wrote its face-to-face deck (``chosen``: the job's dialect records)."""
-    return any(d.name == "calculix" for d in chosen) and (Path(decks_dir) / f"{name}_ccx_f2f.inp").exists()
+def wants_f2f(model, chosen, decks_dir: Path) -> bool:
+    """True when a job runs CalculiX, wrote its face-to-face deck (``chosen``: the job's dialect records) and the
+    model is frictionless (``contact.tangential: springs``: the face-integrated law has no friction; with friction
+    ``ccx/f2f`` stays compared with every other series)."""
+    return (model.contact.tangential != "friction" and any(d.name == "calculix" for d in chosen)
+            and (Path(decks_dir) / f"{model.name}_ccx_f2f.inp").exists())
 
 
 def f2f_series(model, mesh, system, origin: str) -> SourceResult:

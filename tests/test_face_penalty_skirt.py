@@ -61,3 +61,24 @@ def test_penalty_on_a_quadratic_skirt(element, hex8_onset):
     lag, _ = _azimuth_sums(pl, sl, 0.5)
     assert np.abs(pen - lag).max() <= 0.02 * np.abs(lag).max()
     assert summary["liftoff_load_factor"] == pytest.approx(hex8_onset, rel=5e-3)
+
+
+def test_run_pairs_ccx_f2f_with_the_face_penalty_only_when_frictionless(tmp_path):
+    """``run --with-ccx`` adds ``reference/f2f`` (deckbridge/reference_f2f.py) when the f2f deck was written and the
+    model has no friction (the face-integrated law is frictionless); the series is the face law's solve."""
+    from deckbridge.dialects import DIALECTS
+    from deckbridge.reference_f2f import f2f_series, wants_f2f
+    m = load(None, ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "outputs.vtu=false", "steps.increments=4"])
+    (tmp_path / f"{m.name}_ccx_f2f.inp").write_text("")
+    assert wants_f2f(m, [DIALECTS["calculix"]], tmp_path)
+    assert not wants_f2f(m, [DIALECTS["mystran"]], tmp_path)
+    assert not wants_f2f(m, [DIALECTS["calculix"]], tmp_path / "none")
+    f = load(None, ["contact.tangential=friction", "contact.friction=0.3"])
+    (tmp_path / f"{f.name}_ccx_f2f.inp").write_text("")
+    assert not wants_f2f(f, [DIALECTS["calculix"]], tmp_path)
+    mesh, system = condense_model(m)
+    res = f2f_series(m, mesh, system, "job")
+    t = res.table
+    assert set(t.method) == {"f2f"} and set(t.source) == {"reference"}
+    assert t[(t.surface == "table") & (t.step == 1)].force_n.sum() == pytest.approx(m.loads.N, rel=1e-9)
+    assert res.wall is not None and not res.wall.empty
