@@ -52,9 +52,10 @@ from ...numbering.inp import FACE_TOP, Layout
 from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...units import scale
 from ...numbering.skirt import elem_ids, mesh_node_ids, mesh_node_index
-from ...deck_elements import face_label_lines
+from ...deck_elements import corner_spring_k, face_label_lines
 from ...render._env import deck_paths, render
-from ...render.inp_cards import clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context
+from ...render.inp_cards import (clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context,
+                                 spring_groups)
 
 MORTAR_HARD = True           # mortar table pair without *SURFACE BEHAVIOR: hard (Lagrange) contact
 MORTAR_FACTOR = 1.0e4        # K_m = MORTAR_FACTOR * E / h1 [Pa/m]: stop gaps, stick slope, LINEAR variant
@@ -91,6 +92,7 @@ def _common(model: Model, lay: Layout, method: str) -> dict:
         "tipping": _tipping_note(model),
         "friction_substeps": 0,
         "roundoff_note": "",
+        "corner_springs": False,
     }
 
 
@@ -259,6 +261,12 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
         n = model.steps.increments * MORTAR_FRICTION_SUBSTEPS
         ctx.update(step2_inc=reals([1.0 / n, 1.0, 1.0e-5 / n, 1.0 / n]),
                    inc_limit=max(ctx["inc_limit"], 10 * n), friction_substeps=MORTAR_FRICTION_SUBSTEPS)
+    if mesh.quadratic_faces and ctx["springs"]:     # no SPRING1 on mid-side slave nodes (deck_elements.py)
+        k = corner_spring_k(mesh)
+        keep = k > 0
+        groups = spring_groups(k[keep], mesh_node_ids(mesh, mesh.table.nodes)[keep], lay.next_elem)
+        ctx.update(springs=[{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]),
+                             "k_str": real(g["k"] * u.stiffness)} for g in groups], corner_springs=True)
     ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "mortar", lay), lambda ss: km * ss.area))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                           [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]], u.length, mesh.node_ids))
