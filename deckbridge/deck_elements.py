@@ -109,3 +109,59 @@ def corner_spring_k(mesh) -> np.ndarray:
         moved[row[a]] += k[row[mid]] / 2
         moved[row[b]] += k[row[mid]] / 2
     return moved
+
+
+def base_faces(mesh) -> list[tuple[int, int, np.ndarray]]:
+    """The table slave faces of a quadratic skirt: (element index, face number k of ``Sk``, node indices in
+    the face's CalculiX order, corners first, mid-side node m between corners m and m + 1), for every face of
+    the base elements whose nodes all lie on the table plane (1e-9 of the height)."""
+    et = element_type(mesh.element)
+    z = mesh.nodes[:, 2]
+    on = np.abs(z - z[mesh.table.nodes].min()) <= 1e-9 * max(float(np.ptp(z)), 1e-300)
+    elems = mesh.base_elems if mesh.base_elems is not None else np.arange(mesh.hexes.shape[0])
+    out = []
+    for e in np.asarray(elems, np.int64):
+        for f, local in enumerate(et.faces):
+            conn = mesh.hexes[e, list(local)]
+            if on[conn].all():
+                out.append((int(e), f + 1, conn))
+    return out
+
+
+def quadratic_face_slopes(mesh, faces, k_node: np.ndarray) -> np.ndarray:
+    """Face-to-face penalty slope K [Pa/m, SI] of each quadratic slave face of ``faces`` (:func:`base_faces`):
+    sum_i a_i (k_i / A_i) / sum_i a_i with a_i = int N_i dA the face's consistent shares (corners -1/12 of an
+    8-node face, 0 of a 6-node face), k_i [N/m] per table row (the model's k_c, or k_t for the stick slope) and
+    A_i the node's tributary (HRZ) area: a uniform penetration d then gives the face the pressure K d, the
+    model's k_i d / A_i where that ratio is the same on every node (alpha K / h1 for the model's own penalty)."""
+    from reference_solver.face_weights import face_shares
+    tab = mesh.table
+    row = np.full(mesh.n_nodes, -1)
+    row[tab.nodes] = np.arange(tab.nodes.size)
+    q = np.asarray(k_node, float) / tab.area
+    out = np.empty(len(faces))
+    for n, (e, f, conn) in enumerate(faces):
+        ftype = element_type(mesh.element).face_types[f - 1]
+        a = face_shares(ftype, mesh.nodes[conn][None])[0]
+        out[n] = float(a @ q[row[conn]]) / float(a.sum())
+    return out
+
+
+def f2f_ring(model, mesh, first_node: int, first_elem: int) -> dict:
+    """The face-to-face deck's table under quadratic slave faces: a fixed C3D8 ring (top faces S2 at z = 0, one
+    per azimuth interval, t deep) whose straight-edged faces cover the curved slave faces: radial margin
+    max(t, 2 r_out (1 / cos(pi / n_theta) - 1)) beyond the wall. ccx 2.20 reads a master face between its corner
+    nodes: on a matching quadratic master (C3D20 under each C3D20R face, 24 x 3 x 1, R 1.5, t 0.02) the chords
+    left half the slave face uncovered (base settled 1.13 mm against p / K = 0.546 mm; 48 azimuths: 3.4 %
+    more), on this ring 0.5457 mm. Returns the node groups (name, ids, xyz) ``top`` and ``bottom``, the
+    ``master_elems`` lines and the ``table_master`` surface lines."""
+    from .numbering.inp import FACE_TOP, ring
+    from .render.inp_cards import element_lines, face_lines
+    t = model.geometry.thickness
+    r_in, r_out = model.geometry.radius - t / 2, model.geometry.radius + t / 2
+    margin = max(t, 2.0 * r_out * (1.0 / np.cos(np.pi / mesh.n_theta) - 1.0))
+    rg = ring([r_in - margin, r_out + margin], [-t, 0.0], mesh.n_theta, first_node, first_elem, FACE_TOP)
+    top = rg.nodes[:, 2] == 0.0
+    return {"top": ("NMTOP", rg.node_ids[top], rg.nodes[top]), "bottom": ("NMBOT", rg.node_ids[~top], rg.nodes[~top]),
+            "master_elems": element_lines(rg.elem_ids, rg.conn), "table_master": face_lines(rg.elem_ids, rg.face)}
+

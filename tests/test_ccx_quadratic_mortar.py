@@ -1,23 +1,32 @@
 """CalculiX mortar deck on quadratic skirts (issue 23, deckbridge/deck_elements.py): ccx 2.20 runs the C3D20R /
-C3D10 / C3D15 deck and its face-weighted (mortar) contact carries uniform compression without opening a
-corner node. The truths here are the closed form sigma_N = -N / (2 pi R t) (a thin ring in uniform
-compression) and the force balance (the reference solver's face-weighted Lagrange on these faces is checked
-against the same closed form in tests/test_face_weighted_skirt.py).
+C3D20 / C3D10 / C3D15 deck and its face-weighted (mortar) contact carries uniform compression without opening a
+corner node, and with the default moment it runs to lambda 1 (its circumferential springs on the corner nodes:
+`corner_spring_k`). The truths here are the closed form sigma_N = -N / (2 pi R t) (a thin ring in uniform
+compression), the force balance, and the reference solver's face-weighted Lagrange on the same mesh.
 
-Only step 1 (N alone): with a moment in step 2, ccx 2.20's mortar stalls on these quadratic faces (largest
-residual stuck at ~0.06 N on mid-side table nodes near the neutral axis, then too many cutbacks), measured
-on 24 x 3 x 1 skirts of every quadratic type, with distributing and kinematic load introduction alike."""
+Through-wall sigma_N per azimuth = sum F / sum a over the azimuth's table nodes, F the consistent node force
+(ccx: RF_z of the slave node; reference: ``Solution.force`` = D^T lambda) and a = int N_i dA (the consistent
+share, the same for both), so a pressure constant through the wall is read exactly on 8- and 6-node faces."""
 
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 
+import reference_solver as rs
 from ccx_job import ccx_job
 from deckbridge.model import load
 from deckbridge.dialects.calculix.result_files import _dat_blocks, _frd_blocks
+from deckbridge.numbering.skirt import mesh_node_ids
+from reference_solver.elements import element_type
+from reference_solver.face_weights import face_shares, surface_faces
+
+TOL = 0.02                      # of the reference's peak |sigma_N| (issue 23)
+SMALL_STRAIN = 0.01             # lift / (R + t/2)
+MOMENT_MESH = ["mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1", "contact.stop.side=none", "steps.increments=5"]
 
 
 @pytest.mark.parametrize("element", ["hex20r", "tet10", "wedge15"])
@@ -41,3 +50,99 @@ def test_mortar_deck_uniform_compression(tmp_path, element):
 def build_table_size(model) -> int:
     from deckbridge.mesh import build_mesh
     return int(build_mesh(model).table.nodes.size)
+
+
+_RUNS: dict = {}
+
+
+def moment_run(element: str, folder) -> dict:
+    """ccx mortar and the reference Lagrange on one 24 x 3 x 1 ``element`` skirt under the default loads (N, then
+    T and M to lambda 1 in 5 increments), once per module: per state (lambda, lift / (R + t/2) of the reference,
+    reference peak |sigma_N| [Pa], through-wall sigma_N per azimuth [Pa] of both, ccx sum RF_z [N])."""
+    if element in _RUNS:
+        return _RUNS[element]
+    from deckbridge.solve import condense_model, solve_system
+    model = load(None, [f"mesh.element={element}"] + MOMENT_MESH)
+    inp = ccx_job(model, folder, "lagrange")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")              # the quadratic-mesh 'unverified' warning
+        mesh, system = condense_model(model)
+        _, _, sol = solve_system(model, mesh, system, "lagrange")
+    p = system.problem
+    tab = p.contact_surface == "table"
+    nodes = p.contact_nodes[tab]
+    on = np.zeros(mesh.n_nodes, bool)
+    on[nodes] = True
+    share = np.zeros(mesh.n_nodes)
+    for ftype, conn in surface_faces((rs.ElementBlock(element_type(mesh.element), mesh.hexes),), on):
+        np.add.at(share, conn.ravel(), face_shares(ftype, mesh.nodes[conn]).ravel())
+    theta = np.round(np.degrees(np.arctan2(mesh.nodes[nodes, 1], mesh.nodes[nodes, 0])) % 360.0, 6)
+    _, column = np.unique(theta, return_inverse=True)
+    area = np.bincount(column, share[nodes])
+    ids = mesh_node_ids(mesh, nodes)
+    printed = [b for b in _dat_blocks(inp.with_suffix(".dat")) if b["kind"] == "forces" and b["set"] == "NTABLE"]
+    radius = model.geometry.radius + model.geometry.thickness / 2
+    states = []
+    for n, b in enumerate(printed):
+        step, lam = (1, 0.0) if n == 0 else (2, round((b["time"] - 1.0) * model.steps.lambda_max, 9))
+        k = [i for i in range(sol.load_factor.size) if sol.step[i] == step and abs(sol.load_factor[i] - lam) < 1e-9]
+        fc = np.array([b["values"][int(i)][2] for i in ids])     # RF_z: the table's push, > 0 compressive
+        fr = sol.force[k[-1], tab]
+        states.append({"lam": lam, "lift": max(float(sol.gap[k[-1], tab].max()), 0.0) / radius,
+                       "closed": bool(sol.closed[k[-1], tab].all()),
+                       "peak": float(np.abs(sol.sigma_n[k[-1], tab]).max()), "rz": float(fc.sum()),
+                       "ref": -np.bincount(column, fr) / area, "ccx": -np.bincount(column, fc) / area})
+    _RUNS[element] = {"model": model, "states": states}
+    return _RUNS[element]
+
+
+def _errors(run, opened: bool) -> list[tuple[float, float]]:
+    """(lambda, max |d sigma_N through the wall| / reference peak) at the small-strain states, full contact
+    (every reference table node closed) or past liftoff (some open, lift / R <= 0.01)."""
+    out = []
+    for s in run["states"]:
+        if s["lift"] <= SMALL_STRAIN and s["closed"] != opened:
+            out.append((s["lam"], float(np.abs(s["ref"] - s["ccx"]).max() / s["peak"])))
+    return out
+
+
+@pytest.mark.parametrize("element", ["hex20r", "hex20", "tet10"])
+def test_mortar_deck_with_the_moment_runs_to_lambda_1(tmp_path_factory, element):
+    """With the default moment ccx's mortar runs to lambda 1 (before: residual stuck on the mid-side springs,
+    too many cutbacks); the table carries N at every state; under N alone the through-wall sigma_N is the thin
+    ring's -N / (2 pi R t) at every azimuth (measured: within 0.11 % on hex20r, hex20, tet10)."""
+    run = moment_run(element, tmp_path_factory.mktemp(element))
+    m = run["model"]
+    assert [s["lam"] for s in run["states"]] == pytest.approx([0.0, 0.2, 0.4, 0.6, 0.8, 1.0])
+    for s in run["states"]:
+        assert s["rz"] == pytest.approx(m.loads.N, rel=1e-6)
+    exact = -m.loads.N / (2 * math.pi * m.geometry.radius * m.geometry.thickness)
+    assert np.abs(run["states"][0]["ccx"] / exact - 1).max() < 5e-3
+
+
+@pytest.mark.parametrize("element", [
+    "hex20", "tet10",
+    pytest.param("hex20r", marks=pytest.mark.xfail(strict=True, reason=(
+        "the reference's face-weighted Lagrange on one-element-thick C3D20R alternates between corner and "
+        "mid-side azimuths already under N alone (through-wall -14.54 / -13.90 MPa against the thin ring's "
+        "-14.32; ccx -14.34 / -14.29): 2.59 % of the peak at lambda 0, 2.43 % at 0.6")))])
+def test_mortar_deck_matches_the_reference_lagrange_in_full_contact(tmp_path_factory, element):
+    """Through-wall sigma_N of ccx mortar within 2 % of the reference Lagrange's peak at every state of full
+    contact (measured on 24 x 3 x 1: hex20 <= 1.49 %, tet10 <= 1.19 %; tet10 with the reference's springs moved
+    to the corners as in the deck: 0.013 % to lambda 0.5, so the rest is the spring relocation)."""
+    run = moment_run(element, tmp_path_factory.mktemp(element))
+    errors = _errors(run, opened=False)
+    assert len(errors) >= 3                               # lambda 0 .. 0.4 (0.6: onset)
+    assert max(e for _, e in errors) <= TOL, errors
+
+
+@pytest.mark.parametrize("element", ["hex20r", "hex20", "tet10"])
+@pytest.mark.xfail(strict=True, reason=(
+    "past liftoff (0 < lift/R <= 0.01, lambda 0.8 here) the reference's face-weighted Lagrange on quadratic faces "
+    "is being reworked (fwonset): measured ccx vs reference through the wall 8.5 % (tet10), 12.6 % (hex20), "
+    "15.6 % (hex20r) of the reference peak, whose own peak jumps from 31 to 164-304 MPa between lambda 0.6 and 0.8"))
+def test_mortar_deck_matches_the_reference_lagrange_past_liftoff(tmp_path_factory, element):
+    run = moment_run(element, tmp_path_factory.mktemp(element))
+    errors = _errors(run, opened=True)
+    assert errors, "no small-strain state past liftoff"
+    assert max(e for _, e in errors) <= TOL, errors
