@@ -7,8 +7,10 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
 - a node-based contact law on a quadratic face (8-node quadrilateral, 6-node triangle) is refused, never
   written: a uniform pressure gives the corner nodes -1/12 (8-node) or 0 (6-node) of its load, so a sign
   condition on nodal forces (Nastran/MYSTRAN CGAP, ccx node-to-surface and GAPUNI, Abaqus node-to-surface)
-  opens the corners at zero load. CalculiX writes its mortar deck only (``*CONTACT PAIR, TYPE=MORTAR``, no
-  SPC on slave nodes), and only without the radial stop (its GAPUNI gaps are node-based);
+  opens the corners at zero load. CalculiX writes its mortar deck (``*CONTACT PAIR, TYPE=MORTAR``, no SPC on
+  slave nodes, circumferential springs on corner nodes only: :func:`corner_spring_k`) and its face-to-face
+  penalty deck (``SURFACE TO SURFACE``, LINEAR slope :func:`quadratic_face_slopes`, master :func:`f2f_ring`),
+  and only without the radial stop (its GAPUNI gaps are node-based);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
 - tet4 and the Nastran CHEXA20/CTETRA10/CPENTA15 decks: not written yet (one line saying so).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
@@ -37,14 +39,14 @@ def element_problem(dialect: str, model, mesh) -> str | None:
             if mesh.stop is not None:
                 return (f"{key}: the radial stop is GAPUNI gaps (node-based), wrong on 8-/6-node faces (corner "
                         "nodes carry -1/12 or 0 of a pressure and open at zero load): set contact.stop.side: "
-                        "none for the CalculiX mortar deck")
+                        "none for the CalculiX mortar and face-to-face decks")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         if dialect == "nastran_surface":
             return (f"{key}: the surface-contact deck writes 8-node CHEXA cards only so far (no mid-side "
-                    "nodes): use the calculix dialect (mortar deck)")
+                    "nodes): use the calculix dialect (mortar or face-to-face deck)")
         why = NODE_BASED.get(dialect, "its contact")
         return (f"{key}: a node-based law ({why}) opens the corner nodes of 8-/6-node faces at zero load "
-                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar deck)")
+                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar or face-to-face deck)")
     if el == "c3d8" and dialect in ("calculix", "abaqus"):
         return None
     return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
