@@ -7,8 +7,10 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
 - a node-based contact law on a quadratic face (8-node quadrilateral, 6-node triangle) is refused, never
   written: a uniform pressure gives the corner nodes -1/12 (8-node) or 0 (6-node) of its load, so a sign
   condition on nodal forces (Nastran/MYSTRAN CGAP, ccx node-to-surface and GAPUNI, Abaqus node-to-surface)
-  opens the corners at zero load. CalculiX writes its mortar deck only (``*CONTACT PAIR, TYPE=MORTAR``, no
-  SPC on slave nodes), and only without the radial stop (its GAPUNI gaps are node-based);
+  opens the corners at zero load. CalculiX writes its mortar deck (``*CONTACT PAIR, TYPE=MORTAR``, no SPC on
+  slave nodes, circumferential springs on corner nodes only: :func:`corner_spring_k`) and its face-to-face
+  penalty deck (``SURFACE TO SURFACE``, LINEAR slope :func:`quadratic_face_slopes`, master :func:`f2f_ring`),
+  and only without the radial stop (its GAPUNI gaps are node-based);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
 - tet4 and the Nastran CHEXA20/CTETRA10/CPENTA15 decks: not written yet (one line saying so).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
@@ -37,14 +39,14 @@ def element_problem(dialect: str, model, mesh) -> str | None:
             if mesh.stop is not None:
                 return (f"{key}: the radial stop is GAPUNI gaps (node-based), wrong on 8-/6-node faces (corner "
                         "nodes carry -1/12 or 0 of a pressure and open at zero load): set contact.stop.side: "
-                        "none for the CalculiX mortar deck")
+                        "none for the CalculiX mortar and face-to-face decks")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         if dialect == "nastran_surface":
             return (f"{key}: the surface-contact deck writes 8-node CHEXA cards only so far (no mid-side "
-                    "nodes): use the calculix dialect (mortar deck)")
+                    "nodes): use the calculix dialect (mortar or face-to-face deck)")
         why = NODE_BASED.get(dialect, "its contact")
         return (f"{key}: a node-based law ({why}) opens the corner nodes of 8-/6-node faces at zero load "
-                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar deck)")
+                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar or face-to-face deck)")
     if el == "c3d8" and dialect in ("calculix", "abaqus"):
         return None
     return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
@@ -72,3 +74,96 @@ def face_label_lines(mesh, elems: np.ndarray, ids: np.ndarray, z: float) -> str:
             if on[mesh.hexes[e, list(local)]].all():
                 lines.append(f"{int(eid)}, S{f + 1}")
     return "\n".join(lines)
+
+
+def corner_spring_k(mesh) -> np.ndarray:
+    """Circumferential spring stiffness per table slave row [N/m] for a CalculiX mortar deck on quadratic base
+    faces: ``mesh.k_tangent`` with each mid-side node's stiffness moved, half and half, onto the two corner nodes
+    of its edge (mid-side rows 0). The total per edge, and so the shear the springs carry, is kept.
+
+    Why: ccx 2.20's mortar on 8-/6-node slave faces leaves a SPRING1 on a mid-side slave node out of balance
+    (measured, hex20r 24 x 3 x 1, default loads: the largest residual stuck at 468.6 N in dof 1 of the mid-wall
+    nodes at theta 90 / 270 at lambda 0.1 -- about that node's whole spring force -- and 117.1 N at a quarter of
+    the increment, until 'too many cutbacks'); with the same springs on the corner nodes only it runs to lambda 1."""
+    tab = mesh.table
+    k = np.asarray(mesh.k_tangent, float).copy()
+    row = np.full(mesh.n_nodes, -1)
+    row[tab.nodes] = np.arange(tab.nodes.size)
+    et = element_type(mesh.element)
+    z = mesh.nodes[:, 2]
+    on = np.abs(z - z[tab.nodes].min()) <= 1e-9 * max(float(np.ptp(z)), 1e-300)
+    edges = {}                                          # mid-side node -> its edge's two corner nodes
+    for local in et.faces:
+        n = len(local)
+        if n not in (6, 8):
+            continue
+        conn = mesh.hexes[:, list(local)]
+        conn = conn[on[conn].all(axis=1)]
+        c = n // 2
+        for m in range(c):
+            for f in conn:
+                edges.setdefault(int(f[c + m]), (int(f[m]), int(f[(m + 1) % c])))
+    moved = k.copy()
+    for mid, (a, b) in edges.items():
+        if row[mid] < 0 or row[a] < 0 or row[b] < 0:
+            continue
+        moved[row[mid]] -= k[row[mid]]
+        moved[row[a]] += k[row[mid]] / 2
+        moved[row[b]] += k[row[mid]] / 2
+    return moved
+
+
+def base_faces(mesh) -> list[tuple[int, int, np.ndarray]]:
+    """The table slave faces of a quadratic skirt: (element index, face number k of ``Sk``, node indices in
+    the face's CalculiX order, corners first, mid-side node m between corners m and m + 1), for every face of
+    the base elements whose nodes all lie on the table plane (1e-9 of the height)."""
+    et = element_type(mesh.element)
+    z = mesh.nodes[:, 2]
+    on = np.abs(z - z[mesh.table.nodes].min()) <= 1e-9 * max(float(np.ptp(z)), 1e-300)
+    elems = mesh.base_elems if mesh.base_elems is not None else np.arange(mesh.hexes.shape[0])
+    out = []
+    for e in np.asarray(elems, np.int64):
+        for f, local in enumerate(et.faces):
+            conn = mesh.hexes[e, list(local)]
+            if on[conn].all():
+                out.append((int(e), f + 1, conn))
+    return out
+
+
+def quadratic_face_slopes(mesh, faces, k_node: np.ndarray) -> np.ndarray:
+    """Face-to-face penalty slope K [Pa/m, SI] of each quadratic slave face of ``faces`` (:func:`base_faces`):
+    sum_i a_i (k_i / A_i) / sum_i a_i with a_i = int N_i dA the face's consistent shares (corners -1/12 of an
+    8-node face, 0 of a 6-node face), k_i [N/m] per table row (the model's k_c, or k_t for the stick slope) and
+    A_i the node's tributary (HRZ) area: a uniform penetration d then gives the face the pressure K d, the
+    model's k_i d / A_i where that ratio is the same on every node (alpha K / h1 for the model's own penalty)."""
+    from reference_solver.face_weights import face_shares
+    tab = mesh.table
+    row = np.full(mesh.n_nodes, -1)
+    row[tab.nodes] = np.arange(tab.nodes.size)
+    q = np.asarray(k_node, float) / tab.area
+    out = np.empty(len(faces))
+    for n, (e, f, conn) in enumerate(faces):
+        ftype = element_type(mesh.element).face_types[f - 1]
+        a = face_shares(ftype, mesh.nodes[conn][None])[0]
+        out[n] = float(a @ q[row[conn]]) / float(a.sum())
+    return out
+
+
+def f2f_ring(model, mesh, first_node: int, first_elem: int) -> dict:
+    """The face-to-face deck's table under quadratic slave faces: a fixed C3D8 ring (top faces S2 at z = 0, one
+    per azimuth interval, t deep) whose straight-edged faces cover the curved slave faces: radial margin
+    max(t, 2 r_out (1 / cos(pi / n_theta) - 1)) beyond the wall. ccx 2.20 reads a master face between its corner
+    nodes: on a matching quadratic master (C3D20 under each C3D20R face, 24 x 3 x 1, R 1.5, t 0.02) the chords
+    left half the slave face uncovered (base settled 1.13 mm against p / K = 0.546 mm; 48 azimuths: 3.4 %
+    more), on this ring 0.5457 mm. Returns the node groups (name, ids, xyz) ``top`` and ``bottom``, the
+    ``master_elems`` lines and the ``table_master`` surface lines."""
+    from .numbering.inp import FACE_TOP, ring
+    from .render.inp_cards import element_lines, face_lines
+    t = model.geometry.thickness
+    r_in, r_out = model.geometry.radius - t / 2, model.geometry.radius + t / 2
+    margin = max(t, 2.0 * r_out * (1.0 / np.cos(np.pi / mesh.n_theta) - 1.0))
+    rg = ring([r_in - margin, r_out + margin], [-t, 0.0], mesh.n_theta, first_node, first_elem, FACE_TOP)
+    top = rg.nodes[:, 2] == 0.0
+    return {"top": ("NMTOP", rg.node_ids[top], rg.nodes[top]), "bottom": ("NMBOT", rg.node_ids[~top], rg.nodes[~top]),
+            "master_elems": element_lines(rg.elem_ids, rg.conn), "table_master": face_lines(rg.elem_ids, rg.face)}
+
