@@ -16,6 +16,8 @@ import time
 import numpy as np
 import pandas as pd
 
+import reference_solver as rs
+
 from .. import summary_keys as K
 from ..errors import DeckbridgeError
 from ..methods import PENALTY
@@ -57,8 +59,21 @@ def condense_variant(model_dict: dict, light: bool = True) -> Condensed:
     model = Model.from_dict(model_dict)
     mesh, system = condense_model(model)
     if light:
-        system = dataclasses.replace(system, schur=None)
+        system = without_factor(system)
     return Condensed(mesh, system, time.perf_counter() - t0, where(), model_dict)
+
+
+def without_factor(system):
+    """``system`` without its sparse factor (no field recovery); a friction system keeps it in its
+    frictionless ``base`` condensation."""
+    if isinstance(system, rs.FrictionSystem):
+        return dataclasses.replace(system, base=dataclasses.replace(system.base, schur=None), views={}, cache={})
+    return dataclasses.replace(system, schur=None)
+
+
+def has_factor(system) -> bool:
+    """Whether ``system`` can recover fields (its sparse factor is there)."""
+    return getattr(system, "base", system).schur is not None
 
 
 def _bind(cond: Condensed, model: Model):
@@ -113,7 +128,7 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
             df, summary, sol = solve_system(model, mesh, system, method, kf, recover=False)
             lam_s, th_s = reference_section_onset(system, mesh, sol)
             summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = lam_s, th_s
-            if system.schur is not None:
+            if has_factor(system):
                 wall = reference_wall(system, mesh, sol)
     except DeckbridgeError:
         raise
