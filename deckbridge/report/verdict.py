@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from ..model import Model
+from ..methods import LAGRANGE
 
 
 def _pct(v) -> str:
@@ -21,7 +22,7 @@ def verdict_view(verdict: dict, measured: list[dict], model: Model) -> dict:
     if verdict.get("error"):
         return {"head": f"No verdict on the penalty: {verdict['error']}", "advice": "", "command": "", "definition": "",
                 "head_row": [], "rows": [], "measured": [], "measured_head": []}
-    mp, rec, lag = verdict["model_penalty"], verdict["recommended"], verdict["lagrange"]
+    mp, rec, lag = verdict["model_penalty"], verdict["recommended"], verdict[LAGRANGE]
     what = ("the model's penalty (" + ("α = " + format(mp["alpha"], "g") if mp["alpha"] is not None
                                        else "k_normal") + ", k-factor 1: the k_c per node of the reference penalty, "
             "the Nastran PGAP KA and the Abaqus / CalculiX penalty decks)")

@@ -29,6 +29,7 @@ import pandas as pd
 
 from ..compare.series import series_of
 from ..errors import DeckbridgeError
+from ..methods import LAGRANGE, PENALTY
 from ..model import Model
 from ..solve import PENALTY_RATIO, penalty_ratio
 from .cases import Case, mesh_variants
@@ -72,7 +73,7 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
     else:
         cond = Condensed(condensed[0], condensed[1], 0.0, "this process", md)
     k_c = node_stiffness(cond.mesh)
-    lag = Case(variant, "lagrange")
+    lag = Case(variant, LAGRANGE)
     tables, records, series = {}, {}, {}
 
     def solve(case: Case):
@@ -85,7 +86,7 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
     rows: dict[float, dict] = {}
 
     def judge(kf: float) -> bool:
-        case = Case(variant, "penalty", float(kf))
+        case = Case(variant, PENALTY, float(kf))
         try:
             solve(case)
         except DeckbridgeError as exc:
@@ -120,7 +121,7 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
                        f"|Lagrange peak compression| at every compared load factor, and the first-node liftoff "
                        f"onset within {onset_tol:g} x the Lagrange onset; Lagrange = the limit k -> infinity "
                        "(tangential springs rigid when k_t follows k_n), as in deckbridge sweep"),
-        "lagrange": {"liftoff_load_factor": lag_summary["liftoff_load_factor"],
+        LAGRANGE: {"liftoff_load_factor": lag_summary["liftoff_load_factor"],
                      "liftoff_theta_deg": lag_summary["liftoff_theta_deg"]},
         "model_penalty": rows[1.0] | {"converged": rows[1.0]["reproduces"]},
         "evaluated": [rows[k] for k in ks],
@@ -137,12 +138,12 @@ def measured_rows(result, model: Model) -> list[dict]:
     largest penetration / t (None where the source's table has no gap)."""
     labels = [s.label for s in result.series]
     methods = {s.label: s.method for s in result.series}
-    lag = next((lab for lab in labels if methods[lab] == "lagrange"), None)
+    lag = next((lab for lab in labels if methods[lab] == LAGRANGE), None)
     out = []
     if lag is None:
         return out
     for lab in labels:
-        if methods[lab] != "penalty":
+        if methods[lab] != PENALTY:
             continue
         worst = None
         for pt in result.points:
@@ -171,7 +172,7 @@ def report_verdict(result, model: Model | None, extra: dict | None = None) -> tu
     ``extra['condensed']`` (mesh, condensed system) of ``model``, reused). A verdict that cannot be made is
     ``{"error": why}``: the report still stands and says why."""
     extra = extra or {}
-    if model is None or not extra.get("verdict", True) or not any(s.method == "penalty" for s in result.series):
+    if model is None or not extra.get("verdict", True) or not any(s.method == PENALTY for s in result.series):
         return None
     try:
         verdict = penalty_verdict(model, extra.get("tol", DEFAULT_TOL), model_path=extra.get("model_path", "MODEL"),
