@@ -16,6 +16,7 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
+from deckbridge import summary_keys as K
 from deckbridge.cli import main
 from deckbridge.model import load
 from deckbridge.studies.verdict import penalty_verdict
@@ -87,3 +88,23 @@ def test_friction_verdict_gives_the_sweeps_numbers(friction_sweep):
             assert r["max_rel_diff"] == pytest.approx(d["max_rel_diff"], rel=1e-6), r["k_factor"]
     assert seen >= 3
     assert v["model_penalty"]["converged"] is False and v["model_penalty"]["max_rel_diff"] > 0.2
+
+
+def test_sweep_console_table_has_the_summarys_onset_and_reproduces_columns(friction_sweep):
+    """The console's per-k table carries summary.json's onset_rel_diff (in %) and reproduces, under those names."""
+    summary, console, _ = friction_sweep
+    lines = console.splitlines()
+    head = next(i for i, ln in enumerate(lines) if ln.split()[:1] == ["k-factor"])
+    assert lines[head].split()[-3:] == [K.ONSET_REL_DIFF, "%", K.REPRODUCES]
+    rows = {float(ln.split()[0]): ln.split() for ln in lines[head + 1:head + 1 + len(KS)]}
+    lag = summary["meshes"][0]["lagrange"]["liftoff_load_factor"]
+    checked = 0
+    for d in summary["meshes"][0]["penalty"]:
+        if d.get("error"):
+            continue
+        *_, onset, rep = rows[d["k_factor"]]
+        assert float(onset) == pytest.approx(abs(d["liftoff_load_factor"] - lag) / lag * 100, abs=0.006)
+        assert float(onset) == pytest.approx(d[K.ONSET_REL_DIFF] * 100, abs=0.006)
+        assert rep == ("yes" if d[K.REPRODUCES] else "no")
+        checked += 1
+    assert checked >= 3

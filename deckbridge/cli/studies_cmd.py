@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 
 from .. import limits
+from .. import summary_keys as K
 from ..errors import DeckbridgeError
 from ..methods import AUGMENTED, K_METHODS, LAGRANGE, NAMES, PENALTY
 from ..outdir import lock, remove_stale, staged
@@ -84,14 +85,15 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
             click.echo("grid " + " ".join(f"{k}={'follow' if v is None else v}" for k, v in m["grid"].items()))
         click.echo(f"mesh {m['mesh']}: Lagrange liftoff lambda = {_f(lag.get('liftoff_load_factor'))}")
         click.echo(f"  {'k-factor':>9} {'max|dsig| MPa':>14} {'% of peak':>10} {'IoU':>6} {'peak MPa':>9} "
-                   f"{'liftoff':>8}  within tol")
+                   f"{'liftoff':>8} {'within tol':>10} {K.ONSET_REL_DIFF + ' %':>16} {K.REPRODUCES}")
         for d in m[PENALTY]:
             if d.get("error"):
                 click.echo(f"  {d['k_factor']:>9g}  failed: {d['error']}")
                 continue
             click.echo(f"  {d['k_factor']:>9g} {d['max_abs_diff_pa'] / 1e6:>14.3f} {d['max_rel_diff'] * 100:>10.2f} "
                        f"{d['liftoff_zone_iou']:>6.3f} {d['peak_compression_pa'] / 1e6:>9.2f} "
-                       f"{_f(d['liftoff_load_factor']):>8}  {'yes' if d['within_tol'] else 'no'}")
+                       f"{_f(d['liftoff_load_factor']):>8} {'yes' if d['within_tol'] else 'no':>10} "
+                       f"{_onset(d, lag):>16} {'yes' if d.get(K.REPRODUCES) else 'no'}")
         for d in m.get(AUGMENTED, []):
             click.echo(f"  {d['k_factor']:>9g}  augmented: " + (f"failed: {d['error']}" if d.get("error") else
                        f"{d['max_abs_diff_pa'] / 1e6:.3g} MPa ({d['max_rel_diff'] * 100:.2g} % of peak) from Lagrange, "
@@ -151,6 +153,15 @@ def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=(),
     limits.check_count("--k-factors x --mesh x --grid", n_grid * n_mesh * per_variant, limits.MAX_CASES, "cases")
     limits.check_count("--load-factor", len(load_factors), limits.MAX_LOAD_FACTORS, "load factors")
     limits.check_workers(workers)
+
+
+def _onset(d: dict, lag: dict) -> str:
+    """The onset difference of a penalty row in % of the Lagrange onset ('one lifts' when only one method lifts
+    off: summary.json holds null there, as for a failed case)."""
+    v = d.get(K.ONSET_REL_DIFF)
+    if v is not None:
+        return f"{v * 100:.2f}"
+    return "one lifts" if (d.get("liftoff_load_factor") is None) != (lag.get("liftoff_load_factor") is None) else "-"
 
 
 def _f(v) -> str:

@@ -14,6 +14,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
+from .. import summary_keys as K
 from .figures import plain_text, png_bytes, sigma_n_figure
 from ..methods import AUGMENTED, LAGRANGE, PENALTY
 from .html import SOURCE_HEAD, deckbridge_version, env, fmt, model_rows, mpa, source_rows
@@ -97,8 +98,8 @@ def _mesh_rows(m: dict) -> list[list[str]]:
         rows.append([f"penalty k = {d['k_factor']:g}", mpa(d["max_abs_diff_pa"]), f"{d['max_rel_diff'] * 100:.2f}",
                      fmt(d["worst_load_factor"]), f"{d['liftoff_zone_iou']:.3f}", mpa(d["peak_compression_pa"]),
                      mpa(d["node_peak_compression_pa"]), mpa(d["max_tension_pa"]), fmt(d["liftoff_load_factor"]),
-                     _pct(d.get("onset_rel_diff")), "yes" if d["within_tol"] else "no",
-                     "yes" if d.get("reproduces") else "no"])
+                     _pct(d.get(K.ONSET_REL_DIFF)), "yes" if d["within_tol"] else "no",
+                     "yes" if d.get(K.REPRODUCES) else "no"])
     return rows
 
 

@@ -27,6 +27,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from .. import summary_keys as K
 from ..compare.series import series_of
 from ..errors import DeckbridgeError
 from ..methods import LAGRANGE, PENALTY
@@ -90,18 +91,18 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
         try:
             solve(case)
         except DeckbridgeError as exc:
-            rows[kf] = {"k_factor": kf, "error": str(exc), "reproduces": False}
+            rows[kf] = {"k_factor": kf, "error": str(exc), K.REPRODUCES: False}
             return False
         vr = variant_metrics(variant, [lag, case], tables, records, tol, series=series)
         pk = vr.per_k[0]
         pen = penetration(tables[case.case_id])
         rows[kf] = {"k_factor": kf, "max_rel_diff": pk["max_rel_diff"], "worst_load_factor": pk["worst_load_factor"],
                     "stress_within_tol": pk["within_tol"], "liftoff_load_factor": pk["liftoff_load_factor"],
-                    "onset_rel_diff": onset_gap(pk["liftoff_load_factor"], vr.lagrange["liftoff_load_factor"]),
+                    K.ONSET_REL_DIFF: onset_gap(pk["liftoff_load_factor"], vr.lagrange["liftoff_load_factor"]),
                     "penetration_m": pen, "penetration_over_t": pen / model.geometry.thickness,
-                    "reproduces": reproduces(pk, vr.lagrange, tol, onset_tol),
+                    K.REPRODUCES: reproduces(pk, vr.lagrange, tol, onset_tol),
                     **deck_terms(model, k_c, kf)}
-        return rows[kf]["reproduces"]
+        return rows[kf][K.REPRODUCES]
 
     found = None
     for kf in _ladder(model):
@@ -112,7 +113,7 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
         for kf in (found / 5.0, found / 2.0):
             if kf >= 1.0 and kf not in rows:
                 judge(kf)
-    passing = sorted(k for k, r in rows.items() if r["reproduces"])
+    passing = sorted(k for k, r in rows.items() if r[K.REPRODUCES])
     best = passing[0] if passing else None
     ks = sorted(rows)
     return {
@@ -123,7 +124,7 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
                        "(tangential springs rigid when k_t follows k_n), as in deckbridge sweep"),
         LAGRANGE: {"liftoff_load_factor": lag_summary["liftoff_load_factor"],
                      "liftoff_theta_deg": lag_summary["liftoff_theta_deg"]},
-        "model_penalty": rows[1.0] | {"converged": rows[1.0]["reproduces"]},
+        "model_penalty": rows[1.0] | {"converged": rows[1.0][K.REPRODUCES]},
         "evaluated": [rows[k] for k in ks],
         "recommended": None if best is None else rows[best],
         "recommended_text": None if best is None else terms_text(rows[best]),
@@ -160,7 +161,7 @@ def measured_rows(result, model: Model) -> list[dict]:
         out.append({"source": lab, "against": lag, "max_rel_diff": None if worst is None else worst[0],
                     "worst_load_factor": None if worst is None else worst[1],
                     "liftoff_load_factor": lo.get(lab), "lagrange_liftoff_load_factor": lo.get(lag),
-                    "onset_rel_diff": None if gap is None or math.isinf(gap) else gap,
+                    K.ONSET_REL_DIFF: None if gap is None or math.isinf(gap) else gap,
                     "penetration_over_t": None if pen is None else pen / model.geometry.thickness})
     return out
 
