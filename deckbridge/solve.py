@@ -313,17 +313,22 @@ def _augmented_summary(sol: rs.Solution) -> dict | None:
             "penetration_m": float(sol.penetration.max()), "penetration_tol_m": sol.penetration_tol}
 
 
+_COMPUTE = object()     # write_outputs: the friction table not given, computed there
+
+
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
                   df: pd.DataFrame, summary: dict, mesh: SkirtMesh | None = None,
-                  U: np.ndarray | None = None) -> list[Path]:
+                  U: np.ndarray | None = None, fric=_COMPUTE) -> list[Path]:
     """Write contact.csv, summary.json, with friction friction.csv (:mod:`deckbridge.friction_table`), and (outputs.vtu) result.vtu plus the ParaView series result.pvd,
     result_NNN.vtu (one per increment, :mod:`deckbridge.paraview`) into ``outdir`` atomically. ``U`` (rows, n, 3) [m]:
-    every row's displacements when the caller already recovered them (else recovered here, once)."""
+    every row's displacements when the caller already recovered them (else recovered here, once); ``fric``: the
+    friction table when the caller already made it (None: no friction), else made here."""
     names = ["contact.csv", "summary.json"]
     with staged(outdir) as stage:
         df.to_csv(stage / "contact.csv", index=False)
         (stage / "summary.json").write_text(json.dumps(json_clean(summary), indent=2) + "\n")
-        fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)       # only with contact.tangential: friction
+        if fric is _COMPUTE:        # only with contact.tangential: friction
+            fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)
         if fric is not None:
             fric.to_csv(stage / FRICTION_CSV, index=False, float_format="%.17g")
             names.append(FRICTION_CSV)
