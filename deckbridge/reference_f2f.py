@@ -15,6 +15,7 @@ from pathlib import Path
 
 from reference_solver.face_penalty import face_weighted
 
+from .methods import PENALTY
 from .results import SourceResult
 from .solve import solve_system
 from .wall_stress import reference_wall
@@ -34,7 +35,7 @@ def f2f_series(model, mesh, system, origin: str) -> SourceResult:
     """The face-integrated reference penalty of ``model`` on its condensed ``system`` (no re-condensing) as one
     source of a comparison (``origin``: where the job's reference results live)."""
     face = face_weighted(system)
-    df, summary, sol = solve_system(model, mesh, face, "penalty", recover=True)
+    df, summary, sol = solve_system(model, mesh, face, PENALTY, recover=True)
     df["method"] = METHOD
     summary["method"] = METHOD
     return SourceResult(df, origin, summary=summary, wall=reference_wall(face, mesh, sol))

@@ -52,7 +52,8 @@ from ...numbering.inp import FACE_TOP, Layout
 from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...units import scale
 from ...numbering.skirt import elem_ids, mesh_node_ids, mesh_node_index
-from ...deck_elements import base_faces, corner_spring_k, f2f_ring, face_label_lines, quadratic_face_slopes
+from ...deck_elements import base_faces, corner_spring_k, face_label_lines, quadratic_face_slopes
+from .quadratic_master import f2f_ring
 from ...render._env import deck_paths, render
 from ...render.inp_cards import (clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context,
                                  spring_groups)
