@@ -8,7 +8,9 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
   written: a uniform pressure gives the corner nodes -1/12 (8-node) or 0 (6-node) of its load, so a sign
   condition on nodal forces (Nastran/MYSTRAN CGAP, ccx node-to-surface and GAPUNI, Abaqus node-to-surface)
   opens the corners at zero load. CalculiX writes its mortar deck only (``*CONTACT PAIR, TYPE=MORTAR``, no
-  SPC on slave nodes), and only without the radial stop (its GAPUNI gaps are node-based);
+  SPC on slave nodes), and only without the radial stop (its GAPUNI gaps are node-based); Abaqus writes its
+  table pair surface to surface (``TYPE=SURFACE TO SURFACE``, element-based slave faces), also only without
+  the radial stop (its slaves are base nodes);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
 - tet4 and the Nastran CHEXA20/CTETRA10/CPENTA15 decks: not written yet (one line saying so).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
@@ -23,7 +25,7 @@ from reference_solver.elements import element_type
 CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20R", "c3d10": "C3D10",
             "c3d15": "C3D15", "c3d4": "C3D4"}
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
-NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps", "abaqus": "node-to-surface contact"}
+NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps"}
 
 
 def element_problem(dialect: str, model, mesh) -> str | None:
@@ -38,6 +40,12 @@ def element_problem(dialect: str, model, mesh) -> str | None:
                 return (f"{key}: the radial stop is GAPUNI gaps (node-based), wrong on 8-/6-node faces (corner "
                         "nodes carry -1/12 or 0 of a pressure and open at zero load): set contact.stop.side: "
                         "none for the CalculiX mortar deck")
+            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
+        if dialect == "abaqus":       # surface-to-surface table pair (dialects/abaqus/render.py)
+            if mesh.stop is not None:
+                return (f"{key}: the radial stop's slaves are base nodes (node-based contact), wrong on 8-/6-node "
+                        "faces (corner nodes carry -1/12 or 0 of a pressure and open at zero load): set "
+                        "contact.stop.side: none for the Abaqus surface-to-surface deck")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         if dialect == "nastran_surface":
             return (f"{key}: the surface-contact deck writes 8-node CHEXA cards only so far (no mid-side "
