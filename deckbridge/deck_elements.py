@@ -12,7 +12,9 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
   table pair surface to surface (``TYPE=SURFACE TO SURFACE``, element-based slave faces), also only without
   the radial stop (its slaves are base nodes);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
-- tet4 and the Nastran CHEXA20/CTETRA10/CPENTA15 decks: not written yet (one line saying so).
+- the Simcenter surface-contact deck (nastran_surface) writes CHEXA (20 grids) / CTETRA (10) / CPENTA (15) with
+  their mid-side grids and BSURFS faces, without the radial stop; the CGAP deck's refusal names it;
+- tet4: not written yet (one line saying so).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
 """
 
@@ -47,12 +49,16 @@ def element_problem(dialect: str, model, mesh) -> str | None:
                         "faces (corner nodes carry -1/12 or 0 of a pressure and open at zero load): set "
                         "contact.stop.side: none for the Abaqus surface-to-surface deck")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
-        if dialect == "nastran_surface":
-            return (f"{key}: the surface-contact deck writes 8-node CHEXA cards only so far (no mid-side "
-                    "nodes): use the calculix dialect (mortar deck)")
+        if dialect == "nastran_surface":       # BSURFS faces, CHEXA/CPENTA/CTETRA with mid-side grids
+            if mesh.stop is not None:
+                return (f"{key}: the surface-contact deck's radial stop on 8-/6-node faces is not written yet: set "
+                        "contact.stop.side: none for it, or use the calculix dialect (mortar deck)")
+            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         why = NODE_BASED.get(dialect, "its contact")
+        other = ("the nastran_surface dialect (Simcenter surface contact, BSURFS) or " if dialect == "nastran"
+                 else "")
         return (f"{key}: a node-based law ({why}) opens the corner nodes of 8-/6-node faces at zero load "
-                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar deck)")
+                f"(they carry -1/12 or 0 of a uniform pressure): use {other}the calculix dialect (mortar deck)")
     if el == "c3d8" and dialect in ("calculix", "abaqus"):
         return None
     return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
