@@ -261,3 +261,18 @@ def test_quadratic_refusals_name_the_surface_contact_deck(tmp_path):
                                               r"contact.stop.side: none") as err:
         render_all(model, tmp_path / "b", names=["nastran_surface"])
     assert "\n" not in str(err.value) and not any((tmp_path / "b").glob("*.bdf"))
+
+
+@pytest.mark.parametrize("element", ["hex20r", "tet10"])
+def test_reader_places_the_quadratic_decks_grids(tmp_path, element):
+    """The OP2 reader's geometry path on a quadratic deck: region 1's grids are the table's slave nodes, corners and
+    mid-sides, at the mesh's positions with vertical normals; shares NaN (the corner rule does not hold)."""
+    model, path = _deck(tmp_path, QUAD + [f"mesh.element={element}"])
+    mesh = build_mesh(model)
+    sf = source_faces(path)
+    grids = {n for r, n in sf.share if r == 1}
+    assert grids == set((mesh.table.nodes + 1).tolist())
+    for n in grids:
+        np.testing.assert_allclose(sf.xyz[n], mesh.nodes[n - 1], atol=1e-12)
+        assert abs(sf.normal[1, n][2]) > 0.99 and np.isnan(sf.share[1, n])
+    assert {len(f) for _, f in sf.faces} == ({8} if element == "hex20r" else {6})
