@@ -13,7 +13,8 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
   the radial stop (its slaves are base nodes);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
 - the Simcenter surface-contact deck (nastran_surface) writes CHEXA (20 grids) / CTETRA (10) / CPENTA (15) with
-  their mid-side grids and BSURFS faces, without the radial stop; the CGAP deck's refusal names it;
+  their mid-side grids and BSURFS faces (the radial stop on hex20 / hex20r / wedge15 only); the CGAP deck's
+  refusal names it;
 - tet4: not written yet (one line saying so).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
 """
@@ -50,9 +51,9 @@ def element_problem(dialect: str, model, mesh) -> str | None:
                         "contact.stop.side: none for the Abaqus surface-to-surface deck")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         if dialect == "nastran_surface":       # BSURFS faces, CHEXA/CPENTA/CTETRA with mid-side grids
-            if mesh.stop is not None:
-                return (f"{key}: the surface-contact deck's radial stop on 8-/6-node faces is not written yet: set "
-                        "contact.stop.side: none for it, or use the calculix dialect (mortar deck)")
+            if mesh.stop is not None and el == "c3d10":
+                return (f"{key}: the surface-contact deck's radial stop on a tetrahedral skirt's wall faces is not "
+                        "written yet: set contact.stop.side: none for it, or use the calculix dialect (mortar deck)")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         why = NODE_BASED.get(dialect, "its contact")
         other = ("the nastran_surface dialect (Simcenter surface contact, BSURFS) or " if dialect == "nastran"

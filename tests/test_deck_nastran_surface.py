@@ -247,7 +247,7 @@ def test_quadratic_deck_keeps_the_real_simcenter_layout(tmp_path):
 
 def test_quadratic_refusals_name_the_surface_contact_deck(tmp_path):
     """CGAP on 8-/6-node faces stays refused, in one line naming nastran_surface; the surface-contact deck with
-    the radial stop on such faces is refused in one line too (not written yet)."""
+    the radial stop on a tet10 skirt is refused in one line too (not written yet)."""
     from deckbridge.errors import DeckUnsupported
     from deckbridge.render import render_all
 
@@ -257,8 +257,8 @@ def test_quadratic_refusals_name_the_surface_contact_deck(tmp_path):
         render_all(model, tmp_path / "a", names=["nastran"])
     assert "\n" not in str(err.value)
     model = load(None, QUAD[:-1] + ["mesh.element=tet10"])
-    with pytest.raises(DeckUnsupported, match=r"radial stop on 8-/6-node faces is not written yet: set "
-                                              r"contact.stop.side: none") as err:
+    with pytest.raises(DeckUnsupported, match=r"radial stop on a tetrahedral skirt's wall faces is not written yet: "
+                                              r"set contact.stop.side: none") as err:
         render_all(model, tmp_path / "b", names=["nastran_surface"])
     assert "\n" not in str(err.value) and not any((tmp_path / "b").glob("*.bdf"))
 
@@ -276,3 +276,42 @@ def test_reader_places_the_quadratic_decks_grids(tmp_path, element):
         np.testing.assert_allclose(sf.xyz[n], mesh.nodes[n - 1], atol=1e-12)
         assert abs(sf.normal[1, n][2]) > 0.99 and np.isnan(sf.share[1, n])
     assert {len(f) for _, f in sf.faces} == ({8} if element == "hex20r" else {6})
+
+
+@pytest.mark.parametrize("element, side", [("hex20r", "inner"), ("wedge15", "outer")])
+def test_quadratic_stop_faces_and_their_targets(tmp_path, element, side):
+    """With the radial stop on a 20-node / 15-node skirt: region 3 = the first row's 8-node wall faces on the stop's
+    side (corner triples of CHEXA 20 / CPENTA 15 wall faces; horizontal), holding every stop slave node; region 4 =
+    20-node CHEXA layer faces whose corners and mid-sides lie on the stop radius (clearance 0: the wall's radius,
+    the true cylinder), every mid-side grid at its Nastran edge's mid-point."""
+    model, path = _deck(tmp_path, QUAD[:-1] + [f"mesh.element={element}", f"contact.stop.side={side}"])
+    mesh = build_mesh(model)
+    bdf = read_bdf(str(path), xref=True, debug=None)
+    g = model.geometry
+    r_wall = g.radius + (g.thickness / 2 if side == "outer" else -g.thickness / 2)
+    assert bdf.bctsets[1].sids == [1, 3] and bdf.bctsets[1].tids == [2, 4]
+
+    def face(eid, three):
+        e = bdf.elements[eid]
+        k = len(e.node_ids)
+        nc = k - len(NASTRAN_EDGES[k])
+        x = _xyz(bdf, e.node_ids)
+        for m, (a, b) in enumerate(NASTRAN_EDGES[k]):
+            assert np.linalg.norm(x[nc + m] - (x[a - 1] + x[b - 1]) / 2) <= 0.1 * np.linalg.norm(x[a - 1] - x[b - 1])
+        assert set(three) <= set(e.node_ids[:nc])
+        r = np.hypot(x[:nc, 0], x[:nc, 1])
+        corners = [gid for gid, ri in zip(e.node_ids[:nc], r) if abs(ri - r_wall) < 1e-9]
+        mids = [e.node_ids[nc + m] for m, (a, b) in enumerate(NASTRAN_EDGES[k])
+                if e.node_ids[a - 1] in corners and e.node_ids[b - 1] in corners]
+        assert len(corners) == 4 and len(mids) == 4 and set(three) <= set(corners)
+        return corners + mids
+
+    covered = set()
+    for eid, *three in zip(bdf.bsurfs[3].eids, bdf.bsurfs[3].g1s, bdf.bsurfs[3].g2s, bdf.bsurfs[3].g3s):
+        covered |= set(face(eid, three))
+    assert set((mesh.stop.nodes + 1).tolist()) <= covered
+    for eid, *three in zip(bdf.bsurfs[4].eids, bdf.bsurfs[4].g1s, bdf.bsurfs[4].g2s, bdf.bsurfs[4].g3s):
+        assert bdf.elements[eid].type == "CHEXA" and len(bdf.elements[eid].node_ids) == 20
+        x = _xyz(bdf, face(eid, three))
+        np.testing.assert_allclose(np.hypot(x[:, 0], x[:, 1]), r_wall, rtol=1e-12)
+    assert min(e.Volume() for e in bdf.elements.values() if e.type in ("CHEXA", "CPENTA")) > 0

@@ -23,7 +23,8 @@ control selects it with ``BCSET`` and asks ``BCRESULTS(TRACTION,FORCE,SEPDIS) = 
   Nastran's grid order (:func:`nastran_order`); the table layer is one 20-node CHEXA (quad8 faces) or 15-node
   CPENTA (tri6 faces) under each base face, built on the face's own corner and mid-side positions
   (:func:`_extrude_quadratic`), so that the curved edges of source and target coincide; BSURFS name each face by
-  three corner grids. Without the radial stop only (refused in :func:`deckbridge.deck_elements.element_problem`).
+  three corner grids. The radial stop's source faces are the first row's 8-node wall faces (hex20, hex20r, wedge15);
+  on tet10 skirts the stop is refused (:func:`deckbridge.deck_elements.element_problem`).
 - Subcase 1: N; subcase 2: the totals N + lambda_max (T, M) (SOL 101 solves each subcase on its own).
 
 Ids: skirt grids and CHEXAs as in the other Nastran-family decks (:mod:`deckbridge.numbering.nastran`), the
@@ -127,22 +128,26 @@ def layers(mesh: SkirtMesh) -> tuple[Layer, Layer | None]:
     clear = np.zeros(n)
     normal[tab.nodes] = tab.normal
     clear[tab.nodes] = tab.clearance
-    if getattr(mesh, "quadratic_faces", False):      # issue 23: the stop is refused there (deck_elements.py)
-        faces = _quadratic_faces(mesh, elems, tab.nodes)
-        return _extrude_quadratic(mesh, elems, faces, -normal * clear[:, None], -normal * h), None
-    faces = _faces_on(mesh, elems, tab.nodes, horizontal=False)
-    table = _extrude(mesh, elems, faces, -normal * clear[:, None], -normal * h)
+    quadratic = getattr(mesh, "quadratic_faces", False)      # issue 23
+    if quadratic:
+        table = _extrude_quadratic(mesh, elems, _quadratic_faces(mesh, elems, tab.nodes),
+                                   -normal * clear[:, None], -normal * h)
+    else:
+        faces = _faces_on(mesh, elems, tab.nodes, horizontal=False)
+        table = _extrude(mesh, elems, faces, -normal * clear[:, None], -normal * h)
     if mesh.stop is None:
         return table, None
     st = mesh.stop
     selems = np.asarray(mesh.stop_elems, np.int64)
-    sfaces = _faces_on(mesh, selems, st.nodes, horizontal=True)
+    sfaces = (_quadratic_wall_faces(mesh, selems, st.nodes) if quadratic else
+              _faces_on(mesh, selems, st.nodes, horizontal=True))
     theta = np.arctan2(mesh.nodes[:, 1], mesh.nodes[:, 0])
     side = float(np.sign(st.normal[0] @ [np.cos(np.radians(st.theta_deg[0])), np.sin(np.radians(st.theta_deg[0])), 0.0]))
     radial = side * np.stack([np.cos(theta), np.sin(theta), np.zeros(n)], axis=1)   # master normal at every node
     sclear = np.full(n, float(np.max(st.clearance)) if st.clearance.size else 0.0)
     sclear[st.nodes] = st.clearance
-    return table, _extrude(mesh, selems, sfaces, -radial * sclear[:, None], -radial * h)
+    extrude = _extrude_quadratic if quadratic else _extrude
+    return table, extrude(mesh, selems, sfaces, -radial * sclear[:, None], -radial * h)
 
 
 def layer_thickness(mesh: SkirtMesh) -> float:
@@ -182,6 +187,29 @@ def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> 
         hit = [mesh.hexes[e, list(f)] for f in et.faces if slave[mesh.hexes[e, list(f)]].all()]
         if len(hit) != 1:
             raise DeckbridgeError(f"mesh: element {e} has {len(hit)} faces made of slave nodes (needs one)")
+        out.append(hit[0])
+    return np.array(out, np.int64)
+
+
+def _quadratic_wall_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
+    """For each element, its one 8-node face with a horizontal normal (from its corners) holding two or more slave
+    nodes: the stop-side wall face of a first-row 20-node hexahedron or 15-node wedge."""
+    et = element_type(mesh.element)
+    slave = np.zeros(mesh.n_nodes, bool)
+    slave[slaves] = True
+    out = []
+    for e in elems:
+        hit = []
+        for f in et.faces:
+            q = mesh.hexes[e, list(f)]
+            if len(q) != 8:
+                continue
+            c = mesh.nodes[q[:4]]
+            n = np.cross(c[2] - c[0], c[3] - c[1])
+            if abs(n[2]) < 0.5 * np.linalg.norm(n) and slave[q].sum() >= 2:
+                hit.append(q)
+        if len(hit) != 1:
+            raise DeckbridgeError(f"mesh: element {e} has {len(hit)} candidate stop faces (needs one)")
         out.append(hit[0])
     return np.array(out, np.int64)
 
