@@ -9,10 +9,15 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
   condition on nodal forces (Nastran/MYSTRAN CGAP, ccx node-to-surface and GAPUNI, Abaqus node-to-surface)
   opens the corners at zero load. CalculiX writes its mortar deck (``*CONTACT PAIR, TYPE=MORTAR``, no SPC on
   slave nodes, circumferential springs on corner nodes only: :func:`corner_spring_k`) and its face-to-face
-  penalty deck (``SURFACE TO SURFACE``, LINEAR slope :func:`quadratic_face_slopes`, master :func:`f2f_ring`),
-  and only without the radial stop (its GAPUNI gaps are node-based);
+  penalty deck (``SURFACE TO SURFACE``, LINEAR slope :func:`quadratic_face_slopes`, master
+  ``dialects/calculix/quadratic_master.f2f_ring``), and only without the radial stop (its GAPUNI gaps are
+  node-based); Abaqus writes its table pair surface to surface (``TYPE=SURFACE TO SURFACE``, element-based
+  slave faces), also only without the radial stop (its slaves are base nodes);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
-- tet4 and the Nastran CHEXA20/CTETRA10/CPENTA15 decks: not written yet (one line saying so).
+- the Simcenter surface-contact deck (nastran_surface) writes CHEXA (20 grids) / CTETRA (10) / CPENTA (15) with
+  their mid-side grids and BSURFS faces (the radial stop on hex20 / hex20r / wedge15 only); the CGAP deck's
+  refusal names it;
+- tet4: not written yet (one line saying so).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
 """
 
@@ -25,7 +30,7 @@ from reference_solver.elements import element_type
 CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20R", "c3d10": "C3D10",
             "c3d15": "C3D15", "c3d4": "C3D4"}
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
-NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps", "abaqus": "node-to-surface contact"}
+NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps"}
 
 
 def element_problem(dialect: str, model, mesh) -> str | None:
@@ -41,12 +46,23 @@ def element_problem(dialect: str, model, mesh) -> str | None:
                         "nodes carry -1/12 or 0 of a pressure and open at zero load): set contact.stop.side: "
                         "none for the CalculiX mortar and face-to-face decks")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
-        if dialect == "nastran_surface":
-            return (f"{key}: the surface-contact deck writes 8-node CHEXA cards only so far (no mid-side "
-                    "nodes): use the calculix dialect (mortar or face-to-face deck)")
+        if dialect == "abaqus":       # surface-to-surface table pair (dialects/abaqus/render.py)
+            if mesh.stop is not None:
+                return (f"{key}: the radial stop's slaves are base nodes (node-based contact), wrong on 8-/6-node "
+                        "faces (corner nodes carry -1/12 or 0 of a pressure and open at zero load): set "
+                        "contact.stop.side: none for the Abaqus surface-to-surface deck")
+            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
+        if dialect == "nastran_surface":       # BSURFS faces, CHEXA/CPENTA/CTETRA with mid-side grids
+            if mesh.stop is not None and el == "c3d10":
+                return (f"{key}: the surface-contact deck's radial stop on a tetrahedral skirt's wall faces is not "
+                        "written yet: set contact.stop.side: none for it, or use the calculix dialect (mortar deck)")
+            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         why = NODE_BASED.get(dialect, "its contact")
+        other = ("the nastran_surface dialect (Simcenter surface contact, BSURFS) or " if dialect == "nastran"
+                 else "")
         return (f"{key}: a node-based law ({why}) opens the corner nodes of 8-/6-node faces at zero load "
-                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar or face-to-face deck)")
+                f"(they carry -1/12 or 0 of a uniform pressure): use {other}the calculix dialect (mortar or "
+                "face-to-face deck)")
     if el == "c3d8" and dialect in ("calculix", "abaqus"):
         return None
     return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
