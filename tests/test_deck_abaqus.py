@@ -320,7 +320,7 @@ def test_quadratic_face_cards_equal_the_calculix_mortar_decks(tmp_path):
     """The skirt's C3D10 cards and the table's slave face labels are the CalculiX mortar deck's (ccx runs that
     deck: tests/test_ccx_quadratic_mortar.py): the same lines."""
     model = load(None, SMALL + ["mesh.element=tet10", "contact.stop.side=none"])
-    (ccx,) = render_all(model, tmp_path / "c", names=["calculix"])
+    (ccx,) = [p for p in render_all(model, tmp_path / "c", names=["calculix"]) if p.name.endswith("_ccx_lagrange.inp")]
     lag = render_all(model, tmp_path / "a", names=["abaqus"])[0]
     a, c = lag.read_text(), ccx.read_text()
     assert _block(a, "*ELEMENT, TYPE=C3D10, ELSET=ESKIRT") == _block(c, "*ELEMENT, TYPE=C3D10, ELSET=ESKIRT")

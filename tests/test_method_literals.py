@@ -25,6 +25,7 @@ ALLOWED: dict[tuple[str, str], tuple[int, str]] = {
     # owned by other helpers in round 3 (r3-ccxquad, r3-decks): to be replaced by PENALTY / LAGRANGE there
     ("dialects/calculix/render.py", "penalty"): (5, "the CalculiX deck kinds (DECKS) and their numbering calls"),
     ("dialects/abaqus/reader.py", "lagrange"): (1, "the method column of the Abaqus surface-contact table"),
+    ("dialects/abaqus/render.py", "augmented"): (1, "the template flag `augmented` (templates/abaqus/lagrange.inp.j2)"),
     ("dialects/nastran_surface/reader.py", "penalty"): (1, "the method column of the Nastran surface-contact table"),
 }
 

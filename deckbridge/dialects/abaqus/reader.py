@@ -35,6 +35,7 @@ import pandas as pd
 from . import RECORD
 from ...errors import DeckbridgeError
 from ...errors import read_text
+from ...methods import AUGMENTED, LAGRANGE
 from ...readers._files import inp_deck_units
 from ...results import with_forces
 from ...units import scale
@@ -89,8 +90,8 @@ def deck_method(path: Path) -> str:
         with open(inp, errors="replace") as fh:
             for _, line in zip(range(40), fh):
                 if line.startswith(AUGMENTED_HEADER):
-                    return "augmented"
-    return "lagrange"
+                    return AUGMENTED
+    return LAGRANGE
 
 
 def _float(tok: str) -> float:

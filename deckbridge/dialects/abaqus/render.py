@@ -40,6 +40,7 @@ import numpy as np
 from . import RECORD
 from ...deck_elements import face_label_lines
 from ...mesh import SkirtMesh
+from ...methods import AUGMENTED, LAGRANGE
 from ...model import Model
 from ...numbering.inp import layout
 from ...numbering.skirt import elem_ids, mesh_node_ids
@@ -117,10 +118,10 @@ def _face_pairs(mesh: SkirtMesh, master: str, augmented: bool) -> list[dict]:
     return out
 
 
-def context(model: Model, mesh: SkirtMesh, method: str = "lagrange") -> dict:
+def context(model: Model, mesh: SkirtMesh, method: str = LAGRANGE) -> dict:
     """Template values of the deck of ``method`` ('lagrange': DIRECT; 'augmented': AUGMENTED LAGRANGE)."""
     u = scale(model.units)
-    augmented = method == "augmented"
+    augmented = method == AUGMENTED
     lay = layout(model, mesh, masters=("table", "stop"))
     rings = [r for r in (lay.table_master, lay.stop_master) if r is not None]
     mu = model.contact.friction
@@ -159,7 +160,7 @@ def _node_surface(ss, ss_mesh, length: float = 1.0, rows=None) -> str:
                      for n, a in zip(mesh_node_ids(ss_mesh, ss.nodes[rows]), ss.area[rows]))
 
 
-DECKS = ("lagrange", "augmented")        # in the order of the dialect record's deck names
+DECKS = (LAGRANGE, AUGMENTED)        # in the order of the dialect record's deck names
 
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
