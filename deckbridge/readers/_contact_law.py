@@ -50,10 +50,11 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..methods import LAGRANGE
 
 LAW_REL = 1e-3
 GAP_FLOOR = 1e-8          # times the largest |r| of the table (1 m without radii) [m]
-LAGRANGE_METHODS = ("lagrange", "mortar")
+LAGRANGE_METHODS = (LAGRANGE, "mortar")
 WEIGHTED_METHODS = ("mortar", "f2f")      # laws on face-weighted gaps (ccx mortar, ccx face-to-face penalty)
 _STATE = ["source", "method", "step", "increment"]
 EXTRA = ("origin", "preload_pa", "law_gap_m")     # reader columns only this check uses

@@ -36,6 +36,7 @@ import pandas as pd
 
 from . import RECORD
 from ...errors import DeckbridgeError
+from ...methods import PENALTY
 from ...mesh import build_mesh
 from .numbering import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...numbering.skirt import mesh_node_index
@@ -81,13 +82,13 @@ def _jobs_in(folder: Path) -> list[Path]:
 
 # --- assembly -----------------------------------------------------------------------------------------
 def _method_of(stem: Path, job: dict) -> str:
-    if job.get("method") in ("penalty", "mortar", "f2f"):
+    if job.get("method") in (PENALTY, "mortar", "f2f"):
         return job["method"]
     name = stem.name.lower()
     if "lagrange" in name or "mortar" in name:
         return "mortar"
     if "penalty" in name or "gap" in name:
-        return "penalty"
+        return PENALTY
     raise DeckbridgeError(f"{str(stem)!r}: cannot tell penalty from mortar (no deckbridge deck beside it, "
                           "job name without 'penalty' or 'lagrange')")
 
@@ -157,14 +158,14 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
         else:
             disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
 
-    n2f = method == "penalty" and ("n2f_order" in job or (not gaps and model is not None
+    n2f = method == PENALTY and ("n2f_order" in job or (not gaps and model is not None
                                                           and ccx_penalty_is_n2f(model)))
     if n2f:
         sigmas, origins, law_gaps = _n2f_sigma(stem, sl, job, model, contact, contact_gap, mesh)
         return _frames(sl, method, lam, sigmas, disp, stem, origins, law_gaps)
     table = sl.surface == "table"
     # forces from RF of another node: the grounded gap node, or (f2f) the matching master node under the slave
-    gap_rows = np.ones(sl.node.size, bool) if method in ("penalty", "f2f") else ~table
+    gap_rows = np.ones(sl.node.size, bool) if method in (PENALTY, "f2f") else ~table
     mortar_rows = ~gap_rows
     if mortar_rows.any():
         has_rf = any(int(sl.node[np.flatnonzero(mortar_rows)[0]]) in f for f in forces.values())
