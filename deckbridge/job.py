@@ -37,6 +37,7 @@ from .outdir import prepare, replacing
 from .render import render_all
 from .readers import read
 from .readers.reference import solution_globals
+from .reference_f2f import f2f_series, wants_f2f
 from .studies.verdict import write_report_with_verdict
 from .report.caveats import reference_caveats
 from .results import SourceResult
@@ -101,6 +102,10 @@ def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float, me
                                    **solution_globals(vtu, method)))
         origins.append(str(folder))
         summaries[method] = summary
+    if wants_f2f(model, chosen, out / "decks"):   # ccx/f2f's partner: the face-integrated penalty (issue 24)
+        origin = f"{out / 'reference_penalty'} (face-integrated)"
+        tables.append(f2f_series(model, mesh, system, origin))
+        origins.append(origin)
 
     for d in chosen:                            # its decks, its runner, its reader, its wall and series
         run_dir = prepare(out / d.folder)

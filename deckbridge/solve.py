@@ -42,10 +42,11 @@ SOURCE = "reference"
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
-    faces get the face-weighted law (``contact_weighting='face'``: Lagrange only, the penalty method is refused
-    when the path is solved); with friction they are refused with ModelError (the weighted law is frictionless)."""
+    faces get the face-weighted laws (``contact_weighting='face'``: Lagrange through the mortar matrix, penalty
+    integrated over the faces, reference_solver/face_penalty.py); with friction they are refused with ModelError
+    (the weighted laws are frictionless)."""
     mesh = mesh or build_mesh(model)
-    weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face-weighted Lagrange (face_law.py)
+    weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face_law.py, face_penalty.py
     if mesh.quadratic_faces:
         from .mesh_order import QUADRATIC_REFUSED, QUADRATIC_UNVERIFIED
         if model.contact.tangential == "friction":

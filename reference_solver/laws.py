@@ -187,6 +187,11 @@ class LagrangeLaw(ContactLaw):
 LAWS: dict[str, type[ContactLaw]] = {"penalty": PenaltyLaw, "lagrange": LagrangeLaw}
 
 
+# Laws that replace a method's own on a weighted problem, by (contact_weighting, method); filled by their modules
+# (face_penalty.py: ('face', 'penalty'), imported by the package). LagrangeLaw weighs its own rows (face_law.py).
+WEIGHTED_LAWS: dict[tuple[str, str], type[ContactLaw]] = {}
+
+
 def register(law: type[ContactLaw]) -> type[ContactLaw]:
     """Add a frictionless law to :data:`LAWS` under its ``name`` (usable as a class decorator)."""
     LAWS[law.name] = law
@@ -208,7 +213,10 @@ def make_law(system, method: str, k_factor: float = 1.0, algorithm: str | None =
     if method not in LAWS:
         raise ReferenceSolverError(f"method = {method!r}: must be one of {', '.join(LAWS)}")
     weighting = system.problem.contact_weighting
+    if (weighting, method) in WEIGHTED_LAWS:                   # e.g. ('face', 'penalty'): face_penalty.py
+        return WEIGHTED_LAWS[weighting, method](system, k_factor, algorithm)
     if weighting != "nodal" and method != "lagrange":
         raise ReferenceSolverError(f"contact_weighting = {weighting!r}: only the lagrange method has a "
-                                   f"face-weighted law (not {method}); use lagrange")
+                                   f"{weighting}-weighted law (not {method}); use lagrange"
+                                   + (" (or 'face' for penalty)" if method == "penalty" else ""))
     return LAWS[method](system, k_factor, algorithm)

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from scipy.integrate import simpson
 
-from deckbridge.errors import DeckbridgeError, ModelError
+from deckbridge.errors import ModelError
 from deckbridge.model import load
 from deckbridge.quantities import beam_theory_sigma
 from deckbridge.solve import build_problem, condense_model, solve_model, solve_path
@@ -68,11 +68,8 @@ def test_quadratic_skirt_full_contact_against_beam_theory(element):
     assert err < _wall_error("hex8i")[0] + 0.005      # as close as hex8i on the same mesh (0.0007)
 
 
-def test_penalty_and_friction_refused_on_quadratic_faces():
-    m = load(None, ["mesh.element=hex20r", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1", "outputs.vtu=false"])
-    _, system = condense_model(m)
-    with pytest.raises(DeckbridgeError, match="only the lagrange method has a face-weighted law"):
-        solve_path(m, system, "penalty")
+def test_friction_refused_on_quadratic_faces():
+    """(penalty on quadratic faces is the face-integrated penalty law: tests/test_face_penalty_skirt.py)"""
     f = load(None, ["mesh.element=tet10", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1",
                     "contact.tangential=friction", "contact.friction=0.3"])
     with pytest.raises(ModelError, match=r"^mesh.element = 'tet10'.*face-weighted.*frictionless"):
