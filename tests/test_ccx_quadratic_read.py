@@ -3,7 +3,7 @@
 Mortar (``*_ccx_lagrange``): table sigma_N = -M^-1 r, the L2-projected pressure of the slave nodes' consistent
 forces r = RF_z. Independent truths: the pressure field's resultant sum_i sigma_i int N_i dA (face shares from
 reference_solver.face_weights, not the reader's M) balances the applied N, and the through-wall sigma_N
-(quantities.sigma_n_wall) of the read table against the reference solver's face-weighted Lagrange in full contact.
+(face-consistent: -Sum F / Sum a, F and a from int N_i N_j dA and int N_i dA) of the read table against the reference solver's
 Face-to-face (``*_ccx_f2f``): table sigma_N = -CPRESS, equal to the .frd read directly as
 tests/test_ccx_quadratic_mortar.py does."""
 
