@@ -100,7 +100,9 @@ def test_mortar_read_table_balances_and_matches_the_reference_lagrange(tmp_path,
 
 def test_f2f_read_table_is_minus_cpress(tmp_path):
     """hex20r 24 x 3 x 1 face-to-face job (master: a C3D8 ring, no master node under a slave node): every read
-    table row is -CPRESS of the .frd (0 where ccx printed none), state by state, and the job reads to lambda 1."""
+    table row is -CPRESS of the .frd (0 where ccx printed none), state by state, and the job reads to lambda 1, with
+    the model or without it (a face half in contact hands ccx's CPRESS to a node 1.9 mm open at lambda 0.8: judged
+    on its faces' gaps, law_gap_m)."""
     model = load(None, ["mesh.element=hex20r"] + MOMENT_MESH)
     inp = ccx_job(model, tmp_path, "f2f")
     ccx = read(inp, fmt="calculix", model=model)
@@ -117,6 +119,8 @@ def test_f2f_read_table_is_minus_cpress(tmp_path):
         got = rows.set_index("node").loc[ids, "sigma_n_pa"].to_numpy(float)
         assert s == step
         np.testing.assert_allclose(got, -cpress, rtol=1e-12, atol=0.0)
+    bare = read(inp, fmt="calculix")                 # no model: the deck's slave lines map the nodes
+    np.testing.assert_array_equal(bare["sigma_n_pa"].to_numpy(), ccx["sigma_n_pa"].to_numpy())
 
 
 def _rows(sigma, gap, **extra) -> pd.DataFrame:

@@ -90,3 +90,17 @@ def law_gaps(sigma: np.ndarray, gap: np.ndarray, near: list[np.ndarray]) -> np.n
         if rows.size and sigma[i] < 0:
             out[i] = np.nanmin(gap[rows]) if np.isfinite(gap[rows]).any() else np.nan
     return out
+
+
+def column_neighbours(theta_deg: np.ndarray, table: np.ndarray, reach: int = 2) -> list[np.ndarray]:
+    """:func:`face_neighbours` without the mesh (a deck's slave lines only): per table row the table rows whose
+    azimuth column lies within ``reach`` columns of its own, periodic (a quadratic face spans three azimuth
+    columns, corner - mid-side - corner, so its nodes are within 2 of each other); empty for other rows."""
+    rows = np.flatnonzero(table)
+    cols, idx = np.unique(np.round(theta_deg[rows], 6), return_inverse=True)
+    n = cols.size
+    near = [np.zeros(0, np.int64) for _ in range(theta_deg.size)]
+    for k, i in enumerate(rows):
+        d = np.abs(idx - idx[k])
+        near[i] = rows[np.minimum(d, n - d) <= reach]
+    return near

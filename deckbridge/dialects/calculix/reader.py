@@ -12,6 +12,7 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
 - node-to-surface penalty (``analysis.nlgeom: false`` penalty deck): ``.dat`` ``*CONTACT PRINT`` CSTR
   (pressure p = K x penetration per contact element, in contact-pair order, lifted nodes left out):
   sigma_n = -p A_ccx / A (force k_c x penetration over the model's area; 0 for a node without a row);
+- 8-/6-node faces (C3D20/C3D20R/C3D10/C3D15): table rows as :mod:`.face_rows` (mortar -M^-1 RF, f2f -CPRESS);
 - gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
   ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
   lifted one can carry pressure with a small positive nodal gap). status: closed where
@@ -37,7 +38,7 @@ import pandas as pd
 from . import RECORD
 from ...errors import DeckbridgeError
 from ...mesh import build_mesh
-from .face_rows import TableProjection, f2f_table_sigma, face_neighbours, law_gaps as face_law_gaps
+from .face_rows import TableProjection, column_neighbours, f2f_table_sigma, face_neighbours, law_gaps as face_law_gaps
 from .numbering import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...numbering.skirt import mesh_node_index
 from ...units import scale
@@ -172,7 +173,7 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
     mortar_rows = ~gap_rows & ~(table & f2f_cpress)
     if mortar_rows.any():
         has_rf = any(int(sl.node[np.flatnonzero(mortar_rows)[0]]) in f for f in forces.values())
-        if table_from == "cpress" or not has_rf:
+        if table_from == "cpress" or not has_rf or (quad and model is None):    # no faces: ccx's own pressure
             if not cpress:
                 raise DeckbridgeError(f"{str(frd if frd.is_file() else stem)!r}: no CONTACT block (CPRESS) of a "
                                       "mortar job in the .frd, and no RF of the slave nodes in the .dat")
@@ -189,7 +190,8 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
     force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
 
     sigmas, origins, own = {}, {}, {}
-    near = face_neighbours(mesh, sl.node, table) if quad and model is not None else None
+    near = (None if not quad else face_neighbours(mesh, sl.node, table) if model is not None
+            else column_neighbours(sl.theta, table))
     for step, t in sorted(set(forces) | (set(cpress) if table_from == "cpress" or f2f_cpress else set())):
         f_t = forces.get((step, t), {})
         sigma = np.full(sl.node.size, np.nan)
