@@ -19,6 +19,9 @@ from .errors import DeckbridgeError
 
 CCX_TO_VOIGT = np.array([0, 1, 2, 3, 5, 4])   # ccx (xx, yy, zz, xy, xz, yz)[CCX_TO_VOIGT] -> (.., yz, zx)
 AXES = {"x": 0, "y": 1, "z": 2}
+# corners of a 10-, 15-, 20-node cell (CalculiX order: corners first); the wall is reduced at the corner nodes,
+# whose through-wall rows are alike at every corner azimuth (a mid-side azimuth has other counts)
+CORNERS = {10: 4, 15: 6, 20: 8}
 
 
 @dataclass(frozen=True)
@@ -68,7 +71,9 @@ def base_wall(nodes: np.ndarray, bottom_hexes: np.ndarray, s_axial_nodal: np.nda
     a = AXES[axis]
     b, c = (a + 1) % 3, (a + 2) % 3
     nodes = np.asarray(nodes, float)
-    row = np.unique(np.asarray(bottom_hexes, np.int64))
+    bottom_hexes = np.asarray(bottom_hexes, np.int64)
+    bottom_hexes = bottom_hexes[:, :CORNERS.get(bottom_hexes.shape[1], bottom_hexes.shape[1])]   # corners only
+    row = np.unique(bottom_hexes)
     h = nodes[row, a]
     tol = 1e-9 * max(float(np.ptp(nodes, axis=0).max()), 1.0)
     base = row[h <= h.min() + tol]

@@ -43,11 +43,37 @@ def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.
     cells = np.asarray(bottom_hexes, np.int64)
     if cells.shape[1] != 8:
         from .face_areas import base_face_areas
-        return base_face_areas(nodes, cells)[np.asarray(wall_nodes, np.int64)].sum(axis=1)
+        area = base_face_areas(nodes, cells)
+        wall_nodes = np.asarray(wall_nodes, np.int64)
+        if cells.shape[1] == 4:
+            return area[wall_nodes].sum(axis=1)
+        return _to_nearest_rows(nodes, area, wall_nodes)   # mid-side nodes' areas to the corner azimuths
     faces = cells[:, :4]
     area = np.zeros(nodes.shape[0])
     np.add.at(area, faces.ravel(), quad_nodal_areas(nodes[faces]).ravel())
     return area[np.asarray(wall_nodes, np.int64)].sum(axis=1)
+
+
+def _to_nearest_rows(nodes: np.ndarray, area: np.ndarray, wall_nodes: np.ndarray) -> np.ndarray:
+    """Nodal areas ``area`` (n,) summed per through-wall row ``wall_nodes`` (na, nw; rows sorted by azimuth):
+    each node's area to the row of nearest azimuth, half to each of two equally near rows (a mid-side node
+    half way between two corner azimuths). Sums to ``area``'s total."""
+    from .azimuth import azimuth_deg
+    row_th = azimuth_deg(*nodes[wall_nodes].mean(axis=1)[:, :2].T)
+    have = np.flatnonzero(area > 0)
+    th = azimuth_deg(nodes[have, 0], nodes[have, 1])
+    d = (th[:, None] - row_th[None, :] + 180.0) % 360.0 - 180.0
+    near = np.abs(d)
+    first = near.argmin(axis=1)
+    near2 = near.copy()
+    near2[np.arange(have.size), first] = np.inf
+    second = near2.argmin(axis=1)
+    tie = np.isclose(near2[np.arange(have.size), second], near[np.arange(have.size), first], rtol=1e-6, atol=1e-9)
+    share = np.where(tie, 0.5, 1.0) * area[have]
+    out = np.zeros(wall_nodes.shape[0])
+    np.add.at(out, first, share)
+    np.add.at(out, second[tie], share[tie])
+    return out
 
 
 def hex_volumes(xyz: np.ndarray) -> np.ndarray:

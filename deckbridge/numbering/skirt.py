@@ -62,10 +62,13 @@ def bottom_row_index(mesh) -> np.ndarray:
     """Hexahedron indices of the bottom element row (face 1-2-3-4 on the base plane z = 0).
 
     Structured mesh: indices 0 .. n_r n_theta - 1 (element index = (k n_r + i) n_theta + j, k = 0);
-    imported mesh (user ids): the hexahedra whose four base corners lie on z = 0 (1e-9 of the height).
+    imported mesh (user ids): the hexahedra whose four base corners lie on z = 0 (1e-9 of the height); imported
+    10-, 15-, 20-node cells (issue 23): those with a face on the table (``base_elems``).
     """
     if getattr(mesh, "elem_ids", None) is None:   # (tetrahedra, wedges: the cells of a coarse cell in a row)
         per_cell = mesh.hexes.shape[0] // (mesh.n_r * mesh.n_theta * mesh.n_z)
         return np.arange(mesh.n_r * mesh.n_theta * per_cell)
+    if getattr(mesh, "table_faces", None) is not None:   # imported 10-/15-/20-node cells: not oriented
+        return np.sort(np.asarray(mesh.base_elems, np.int64))
     z = mesh.nodes[mesh.hexes[:, :4], 2]
     return np.flatnonzero((np.abs(z) <= 1e-9 * np.ptp(mesh.nodes[:, 2])).all(axis=1))

@@ -46,7 +46,8 @@ def load_path_figure(paths: dict[str, dict], labels: list[str]) -> Figure:
         axs[0, 1].plot(lam, np.asarray(beam["beam_compression_side_pa"]) / 1e6, "k--", lw=1)
         axs[1, 0].plot(lam, np.asarray(beam["beam_compression_side_pa"]) / 1e6, "k--", lw=1, label="beam theory")
         for ax in (axs[0, 0], axs[0, 1]):
-            ax.axvline(beam["beam_theory_liftoff_load_factor"], color="grey", lw=0.8, ls=":")
+            if beam["beam_theory_liftoff_load_factor"] is not None:     # None: no liftoff (M = T = 0)
+                ax.axvline(beam["beam_theory_liftoff_load_factor"], color="grey", lw=0.8, ls=":")
     titles = ["lifted arc [deg]", "σN at the tension / compression side [MPa]", "peak compression σN [MPa]"]
     for ax, t in zip((axs[0, 0], axs[0, 1], axs[1, 0]), titles):
         ax.set_title(t, fontsize=9)

@@ -182,11 +182,17 @@ def read_base_wall(path: str | Path, model, mesh=None) -> pd.DataFrame:
 def ccx_wall(result: str | Path, model, mesh=None) -> pd.DataFrame | None:
     """The dialect record's wall reader: wall table (:mod:`deckbridge.wall_stress` columns, SI whatever the deck's
     units) of the ccx job whose result file is ``result``, from its ``.dat`` *EL PRINT S blocks
-    (:func:`read_base_wall`); None when the job printed none, for a folder of jobs, or without a ``.dat``."""
+    (:func:`read_base_wall`); None when the job printed none, for a folder of jobs, without a ``.dat``, or for
+    a mesh of 10-, 15- or 20-node cells (their integration points are not read yet)."""
     p = Path(str(result))
     dat = p.with_suffix(".dat")
     if p.is_dir() or not dat.is_file():
         return None
+    if model is not None:
+        from ...mesh import build_mesh
+        mesh = mesh if mesh is not None else build_mesh(model)
+        if mesh.hexes.shape[1] != N_IP:   # 10-/15-/20-node cells: other integration points, not read yet
+            return None
     try:
         t = read_base_wall(dat, model, mesh=mesh)
     except DeckbridgeError as exc:
