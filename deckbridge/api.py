@@ -43,7 +43,7 @@ def _check_method(method: str) -> None:
         raise DeckbridgeError(f"method = {method!r}: must be one of {', '.join(METHODS)}")
 
 
-def solve(model: Model, method: str = "lagrange", *, k_factor: float = 1.0, alpha: float | None = None,
+def solve(model: Model, method: str = LAGRANGE, *, k_factor: float = 1.0, alpha: float | None = None,
           algorithm: str | None = None, on_increment: Callable[[int, int, float], None] | None = None,
           mesh=None) -> Solution:
     """Solve ``model`` with the reference solver and one contact method; what ``deckbridge solve`` computes.
@@ -104,7 +104,7 @@ class RunResult:
 
     def solutions(self) -> dict[str, Solution]:
         """{'penalty': ..., 'lagrange': ..., and any other method solved}."""
-        return {k: v for k, v in {"penalty": self.penalty, "lagrange": self.lagrange, **self.others}.items()
+        return {k: v for k, v in {PENALTY: self.penalty, LAGRANGE: self.lagrange, **self.others}.items()
                 if v is not None}
 
 

@@ -16,6 +16,7 @@ import pandas as pd
 from . import summary_keys as K
 from .api_results import _axes
 from .errors import DeckbridgeError
+from .methods import PENALTY
 from .jsonable import json_clean, plain_frame
 
 
@@ -123,7 +124,7 @@ class SweepResult:
     def plot(self, ax=None):
         """Largest rel_diff over the compared load factors against the k-factor (log-log), one line per mesh."""
         ax = _axes(ax)
-        t = self.table[self.table["method"] == "penalty"]
+        t = self.table[self.table["method"] == PENALTY]
         for mesh, g in t.groupby("mesh", sort=False):
             worst = g.groupby("k_factor")["rel_diff"].max()
             ax.loglog(worst.index, worst.to_numpy(), marker="o", label=str(mesh))

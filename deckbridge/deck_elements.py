@@ -7,10 +7,17 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
 - a node-based contact law on a quadratic face (8-node quadrilateral, 6-node triangle) is refused, never
   written: a uniform pressure gives the corner nodes -1/12 (8-node) or 0 (6-node) of its load, so a sign
   condition on nodal forces (Nastran/MYSTRAN CGAP, ccx node-to-surface and GAPUNI, Abaqus node-to-surface)
-  opens the corners at zero load. CalculiX writes its mortar deck only (``*CONTACT PAIR, TYPE=MORTAR``, no
-  SPC on slave nodes), and only without the radial stop (its GAPUNI gaps are node-based);
+  opens the corners at zero load. CalculiX writes its mortar deck (``*CONTACT PAIR, TYPE=MORTAR``, no SPC on
+  slave nodes, circumferential springs on corner nodes only: :func:`corner_spring_k`) and its face-to-face
+  penalty deck (``SURFACE TO SURFACE``, LINEAR slope :func:`quadratic_face_slopes`, master
+  ``dialects/calculix/quadratic_master.f2f_ring``), and only without the radial stop (its GAPUNI gaps are
+  node-based); Abaqus writes its table pair surface to surface (``TYPE=SURFACE TO SURFACE``, element-based
+  slave faces), also only without the radial stop (its slaves are base nodes);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
-- tet4 and the Nastran CHEXA20/CTETRA10/CPENTA15 decks: not written yet (one line saying so).
+- the Simcenter surface-contact deck (nastran_surface) writes CHEXA (20 grids) / CTETRA (10) / CPENTA (15) with
+  their mid-side grids and BSURFS faces (the radial stop on hex20 / hex20r / wedge15 only); the CGAP deck's
+  refusal names it;
+- tet4: not written yet (one line saying so).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
 """
 
@@ -23,7 +30,7 @@ from reference_solver.elements import element_type
 CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20R", "c3d10": "C3D10",
             "c3d15": "C3D15", "c3d4": "C3D4"}
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
-NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps", "abaqus": "node-to-surface contact"}
+NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps"}
 
 
 def element_problem(dialect: str, model, mesh) -> str | None:
@@ -37,14 +44,25 @@ def element_problem(dialect: str, model, mesh) -> str | None:
             if mesh.stop is not None:
                 return (f"{key}: the radial stop is GAPUNI gaps (node-based), wrong on 8-/6-node faces (corner "
                         "nodes carry -1/12 or 0 of a pressure and open at zero load): set contact.stop.side: "
-                        "none for the CalculiX mortar deck")
+                        "none for the CalculiX mortar and face-to-face decks")
             return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
-        if dialect == "nastran_surface":
-            return (f"{key}: the surface-contact deck writes 8-node CHEXA cards only so far (no mid-side "
-                    "nodes): use the calculix dialect (mortar deck)")
+        if dialect == "abaqus":       # surface-to-surface table pair (dialects/abaqus/render.py)
+            if mesh.stop is not None:
+                return (f"{key}: the radial stop's slaves are base nodes (node-based contact), wrong on 8-/6-node "
+                        "faces (corner nodes carry -1/12 or 0 of a pressure and open at zero load): set "
+                        "contact.stop.side: none for the Abaqus surface-to-surface deck")
+            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
+        if dialect == "nastran_surface":       # BSURFS faces, CHEXA/CPENTA/CTETRA with mid-side grids
+            if mesh.stop is not None and el == "c3d10":
+                return (f"{key}: the surface-contact deck's radial stop on a tetrahedral skirt's wall faces is not "
+                        "written yet: set contact.stop.side: none for it, or use the calculix dialect (mortar deck)")
+            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
         why = NODE_BASED.get(dialect, "its contact")
+        other = ("the nastran_surface dialect (Simcenter surface contact, BSURFS) or " if dialect == "nastran"
+                 else "")
         return (f"{key}: a node-based law ({why}) opens the corner nodes of 8-/6-node faces at zero load "
-                "(they carry -1/12 or 0 of a uniform pressure): use the calculix dialect (mortar deck)")
+                f"(they carry -1/12 or 0 of a uniform pressure): use {other}the calculix dialect (mortar or "
+                "face-to-face deck)")
     if el == "c3d8" and dialect in ("calculix", "abaqus"):
         return None
     return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
@@ -72,3 +90,76 @@ def face_label_lines(mesh, elems: np.ndarray, ids: np.ndarray, z: float) -> str:
             if on[mesh.hexes[e, list(local)]].all():
                 lines.append(f"{int(eid)}, S{f + 1}")
     return "\n".join(lines)
+
+
+def corner_spring_k(mesh) -> np.ndarray:
+    """Circumferential spring stiffness per table slave row [N/m] for a CalculiX mortar deck on quadratic base
+    faces: ``mesh.k_tangent`` with each mid-side node's stiffness moved, half and half, onto the two corner nodes
+    of its edge (mid-side rows 0). The total per edge, and so the shear the springs carry, is kept.
+
+    Why: ccx 2.20's mortar on 8-/6-node slave faces leaves a SPRING1 on a mid-side slave node out of balance
+    (measured, hex20r 24 x 3 x 1, default loads: the largest residual stuck at 468.6 N in dof 1 of the mid-wall
+    nodes at theta 90 / 270 at lambda 0.1 -- about that node's whole spring force -- and 117.1 N at a quarter of
+    the increment, until 'too many cutbacks'); with the same springs on the corner nodes only it runs to lambda 1."""
+    tab = mesh.table
+    k = np.asarray(mesh.k_tangent, float).copy()
+    row = np.full(mesh.n_nodes, -1)
+    row[tab.nodes] = np.arange(tab.nodes.size)
+    et = element_type(mesh.element)
+    z = mesh.nodes[:, 2]
+    on = np.abs(z - z[tab.nodes].min()) <= 1e-9 * max(float(np.ptp(z)), 1e-300)
+    edges = {}                                          # mid-side node -> its edge's two corner nodes
+    for local in et.faces:
+        n = len(local)
+        if n not in (6, 8):
+            continue
+        conn = mesh.hexes[:, list(local)]
+        conn = conn[on[conn].all(axis=1)]
+        c = n // 2
+        for m in range(c):
+            for f in conn:
+                edges.setdefault(int(f[c + m]), (int(f[m]), int(f[(m + 1) % c])))
+    moved = k.copy()
+    for mid, (a, b) in edges.items():
+        if row[mid] < 0 or row[a] < 0 or row[b] < 0:
+            continue
+        moved[row[mid]] -= k[row[mid]]
+        moved[row[a]] += k[row[mid]] / 2
+        moved[row[b]] += k[row[mid]] / 2
+    return moved
+
+
+def base_faces(mesh) -> list[tuple[int, int, np.ndarray]]:
+    """The table slave faces of a quadratic skirt: (element index, face number k of ``Sk``, node indices in
+    the face's CalculiX order, corners first, mid-side node m between corners m and m + 1), for every face of
+    the base elements whose nodes all lie on the table plane (1e-9 of the height)."""
+    et = element_type(mesh.element)
+    z = mesh.nodes[:, 2]
+    on = np.abs(z - z[mesh.table.nodes].min()) <= 1e-9 * max(float(np.ptp(z)), 1e-300)
+    elems = mesh.base_elems if mesh.base_elems is not None else np.arange(mesh.hexes.shape[0])
+    out = []
+    for e in np.asarray(elems, np.int64):
+        for f, local in enumerate(et.faces):
+            conn = mesh.hexes[e, list(local)]
+            if on[conn].all():
+                out.append((int(e), f + 1, conn))
+    return out
+
+
+def quadratic_face_slopes(mesh, faces, k_node: np.ndarray) -> np.ndarray:
+    """Face-to-face penalty slope K [Pa/m, SI] of each quadratic slave face of ``faces`` (:func:`base_faces`):
+    sum_i a_i (k_i / A_i) / sum_i a_i with a_i = int N_i dA the face's consistent shares (corners -1/12 of an
+    8-node face, 0 of a 6-node face), k_i [N/m] per table row (the model's k_c, or k_t for the stick slope) and
+    A_i the node's tributary (HRZ) area: a uniform penetration d then gives the face the pressure K d, the
+    model's k_i d / A_i where that ratio is the same on every node (alpha K / h1 for the model's own penalty)."""
+    from reference_solver.face_weights import face_shares
+    tab = mesh.table
+    row = np.full(mesh.n_nodes, -1)
+    row[tab.nodes] = np.arange(tab.nodes.size)
+    q = np.asarray(k_node, float) / tab.area
+    out = np.empty(len(faces))
+    for n, (e, f, conn) in enumerate(faces):
+        ftype = element_type(mesh.element).face_types[f - 1]
+        a = face_shares(ftype, mesh.nodes[conn][None])[0]
+        out[n] = float(a @ q[row[conn]]) / float(a.sum())
+    return out

@@ -25,6 +25,8 @@ import time
 from pathlib import Path
 from typing import Callable, Sequence
 
+from reference_solver.recover import path_fields
+
 from . import summary_keys as K
 from .compare import compare_tables
 from .compare.onsets import describe
@@ -37,6 +39,7 @@ from .outdir import prepare, replacing
 from .render import render_all
 from .readers import read
 from .readers.reference import solution_globals
+from .reference_f2f import f2f_series, wants_f2f
 from .studies.verdict import write_report_with_verdict
 from .report.caveats import reference_caveats
 from .results import SourceResult
@@ -87,20 +90,25 @@ def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float, me
          f"condensed in {time.perf_counter() - t0:.1f} s")
     tables, origins, summaries = [], [], {}
     for method in methods:
-        df, summary, sol = solve_system(model, mesh, system, method, recover=model.outputs.vtu)
+        df, summary, sol = solve_system(model, mesh, system, method, recover=False)
         folder = out / f"reference_{method}"
         lam_s, th_s = reference_section_onset(system, mesh, sol)
         summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = lam_s, th_s
         summary["caveats"] = reference_caveats(model, mesh, system, sol)
-        write_outputs(folder, model, system, sol, df, summary, mesh)
-        wall = reference_wall(system, mesh, sol)
+        U = path_fields(system, sol)             # the one recovery of every row: wall, VTUs, the report's globals
+        fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)   # None: no friction
+        write_outputs(folder, model, system, sol, df, summary, mesh, U=U, fric=fric)
+        wall = reference_wall(system, mesh, sol, U)
         write_wall(folder, wall)
-        fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)
-        vtu = result_mesh(system.problem, sol) if model.outputs.vtu and sol.fields else None
+        vtu = result_mesh(system.problem, sol, U) if model.outputs.vtu else None
         tables.append(SourceResult(df, str(folder), summary=summary, wall=wall, friction=fric,
                                    **solution_globals(vtu, method)))
         origins.append(str(folder))
         summaries[method] = summary
+    if wants_f2f(model, chosen, out / "decks"):   # ccx/f2f's partner: the face-integrated penalty (issue 24)
+        origin = f"{out / 'reference_penalty'} (face-integrated)"
+        tables.append(f2f_series(model, mesh, system, origin))
+        origins.append(origin)
 
     for d in chosen:                            # its decks, its runner, its reader, its wall and series
         run_dir = prepare(out / d.folder)

@@ -202,7 +202,6 @@ def build_any_order(model):
 QUADRATIC_REFUSED = ("with contact.tangential = friction: the reference solver's face-weighted contact law (the one "
                      "right on 8-/6-node faces; its nodal laws open every corner node at zero load) is frictionless: "
                      "use contact.tangential = springs, or hex8i / hex8 / tet4, or the CalculiX mortar deck")
-# Measured on 96 x 6 x 2 (docs/elements.md): full contact within 0.4 % of beam theory; first liftoff hex20r 0.44,
-# tet10 0.39 against hex8i 0.51 (whole section 0.60 all three), peak sigma_N at lambda = 1 about 3 x hex8i's.
-QUADRATIC_UNVERIFIED = ("the face-weighted Lagrange law is verified in full contact only (sigma_N within 0.4 % of "
-                        "beam theory); first liftoff and the pressure past it are not verified yet (docs/elements.md)")
+# The face-weighted law is verified against closed forms in full contact and at a rigid top's liftoff, and
+# against fine hex8i skirts past liftoff (docs/elements.md; tests/test_face_weighted_skirt.py and
+# tests/test_face_weighted_liftoff.py), so solves on quadratic faces no longer warn.

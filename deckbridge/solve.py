@@ -14,7 +14,6 @@ from __future__ import annotations
 import json
 import math
 import time
-import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -42,15 +41,15 @@ SOURCE = "reference"
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
-    faces get the face-weighted law (``contact_weighting='face'``: Lagrange only, the penalty method is refused
-    when the path is solved); with friction they are refused with ModelError (the weighted law is frictionless)."""
+    faces get the face-weighted laws (``contact_weighting='face'``: Lagrange through the mortar matrix, penalty
+    integrated over the faces, reference_solver/face_penalty.py); with friction they are refused with ModelError
+    (the weighted laws are frictionless)."""
     mesh = mesh or build_mesh(model)
-    weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face-weighted Lagrange (face_law.py)
+    weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face_law.py, face_penalty.py
     if mesh.quadratic_faces:
-        from .mesh_order import QUADRATIC_REFUSED, QUADRATIC_UNVERIFIED
+        from .mesh_order import QUADRATIC_REFUSED
         if model.contact.tangential == "friction":
             raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
-        warnings.warn(f"mesh.element = {model.mesh.element}: {QUADRATIC_UNVERIFIED}", UserWarning, stacklevel=2)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
@@ -312,17 +311,22 @@ def _augmented_summary(sol: rs.Solution) -> dict | None:
             "penetration_m": float(sol.penetration.max()), "penetration_tol_m": sol.penetration_tol}
 
 
+_COMPUTE = object()     # write_outputs: the friction table not given, computed there
+
+
 def write_outputs(outdir: str | Path, model: Model, system: rs.CondensedSystem, sol: rs.Solution,
                   df: pd.DataFrame, summary: dict, mesh: SkirtMesh | None = None,
-                  U: np.ndarray | None = None) -> list[Path]:
+                  U: np.ndarray | None = None, fric=_COMPUTE) -> list[Path]:
     """Write contact.csv, summary.json, with friction friction.csv (:mod:`deckbridge.friction_table`), and (outputs.vtu) result.vtu plus the ParaView series result.pvd,
     result_NNN.vtu (one per increment, :mod:`deckbridge.paraview`) into ``outdir`` atomically. ``U`` (rows, n, 3) [m]:
-    every row's displacements when the caller already recovered them (else recovered here, once)."""
+    every row's displacements when the caller already recovered them (else recovered here, once); ``fric``: the
+    friction table when the caller already made it (None: no friction), else made here."""
     names = ["contact.csv", "summary.json"]
     with staged(outdir) as stage:
         df.to_csv(stage / "contact.csv", index=False)
         (stage / "summary.json").write_text(json.dumps(json_clean(summary), indent=2) + "\n")
-        fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)       # only with contact.tangential: friction
+        if fric is _COMPUTE:        # only with contact.tangential: friction
+            fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)
         if fric is not None:
             fric.to_csv(stage / FRICTION_CSV, index=False, float_format="%.17g")
             names.append(FRICTION_CSV)

@@ -80,6 +80,12 @@ K_TANGENT_FOLLOWS_K = _key("k_tangent_follows_k", "-", "whether the circumferent
 K_TANGENT_RIGID = _key("k_tangent_rigid", "-", "sweep's Lagrange reference: springs taken rigid (k -> infinity)")
 OPEN_STIFFNESS = _key("open_stiffness", "-", "sweep: open-gap stiffness scaled with k or fixed")
 K_OPEN_RATIO_USED = _key("k_open_ratio_used", "-", "sweep: open-gap stiffness over the closed one")
+ONSET_REL_DIFF = _key("onset_rel_diff", "-", "sweep and verdict, per penalty case: first-node liftoff onset "
+                      "|lambda(penalty) - lambda(Lagrange)| / lambda(Lagrange); 0 when neither lifts, inf (console "
+                      "'one lifts') when only one does")
+REPRODUCES = _key("reproduces", "-", "sweep and verdict, per penalty case: reproduces Lagrange, sigma_N within tol x "
+                  "the Lagrange peak at every compared load factor and onset_rel_diff within the onset tolerance "
+                  "(deckbridge/studies/recommend.py)")
 CAVEATS = _key("caveats", "-", "what the numbers of this reference run do not show (run job)")
 # --- cost --------------------------------------------------------------------------------------------------
 SOLVER = _key("solver", "-", "sparse factorisation, contact algorithm, increments, iterations")

@@ -49,8 +49,9 @@ def spring_scale(problem: rs.Problem, method: str, k_factor: float, limit: bool 
 def rebind(system: rs.CondensedSystem, problem: rs.Problem, scale: float = 1.0) -> rs.CondensedSystem:
     """``system`` with ``problem`` (same nodes, contacts and spring nodes) and springs problem.spring_k x scale.
 
-    The springs of ``system.problem`` at the scale it was built with (``info['spring_scale']``) are
-    taken out of S first. Returns ``system`` itself when nothing changes.
+    Without springs (a friction system, or none built) only the problem is swapped. Else the springs of
+    ``system.problem`` at the scale it was built with (``info['spring_scale']``) are taken out of S first.
+    Returns ``system`` itself when nothing changes.
     """
     old = system.problem.spring_k * system.info.get("spring_scale", 1.0)
     new = problem.spring_k * scale
@@ -59,6 +60,8 @@ def rebind(system: rs.CondensedSystem, problem: rs.Problem, scale: float = 1.0) 
     if old.shape != new.shape:
         raise rs.ReferenceSolverError("rebind: the spring nodes differ from the condensed system's")
     nc, ns = system.problem.n_contacts, old.size
+    if ns == 0:        # no springs (a friction system: k_t lives in its law): S, Sc, fc do not hold k
+        return _with_problem(system, dataclasses.replace(problem, spring_k=new))
     if system.S.shape[0] != nc + ns:
         raise rs.ReferenceSolverError("rebind: the condensed system was stripped of S")
     S = system.S.copy()
@@ -76,6 +79,16 @@ def rebind(system: rs.CondensedSystem, problem: rs.Problem, scale: float = 1.0) 
     info = {**system.info, "spring_scale": 1.0}
     return dataclasses.replace(system, problem=dataclasses.replace(problem, spring_k=new), S=S, Sc=Sc, fc=fc,
                                Gs=Gs, us0=us0, info=info)
+
+
+def _with_problem(system, problem: rs.Problem):
+    """``system`` solving ``problem`` (same nodes, contacts, condensation): the contact stiffness and the
+    friction law's k_t are read from the problem at solve time. A :class:`reference_solver.FrictionSystem`
+    drops its views under the other corner rule (they hold the old problem); its H0^-1 cache is keyed by
+    the stiffness values, so it is shared."""
+    if isinstance(system, rs.FrictionSystem):
+        return dataclasses.replace(system, problem=problem, views={})
+    return dataclasses.replace(system, problem=problem)
 
 
 def follow_springs(system: rs.CondensedSystem, method: str, k_factor: float,

@@ -33,9 +33,10 @@ WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa",
 AREA = "area_m2"
 
 
-def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution) -> pd.DataFrame:
-    """Wall table of every state of a reference solution (one recovery solve for all of them)."""
-    U = path_fields(system, sol)
+def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution, U: np.ndarray | None = None) -> pd.DataFrame:
+    """Wall table of every state of a reference solution (one recovery solve for all of them; ``U`` (rows, n, 3)
+    [m]: every row's displacements when the caller already recovered them, :func:`path_fields`)."""
+    U = path_fields(system, sol) if U is None else U
     bottom = bottom_row_index(mesh)
     frames = []
     for i in range(sol.step.size):

@@ -69,6 +69,7 @@ from .fields import element_stress, element_von_mises
 from .friction import FrictionSystem, GrossSlip, condense_friction
 from .laws import LAWS, ContactLaw, make_law, register
 from . import augmented  # noqa: F401  (registers the 'augmented' law)
+from . import face_penalty  # noqa: F401  (registers the face-integrated penalty: contact_weighting 'face')
 from .linalg import HAVE_CHOLMOD, cholmod_factorize, default_factorize, splu_factorize
 from .loads import distributing_forces
 from .path import Increment, Solution, section_onset, solve_path

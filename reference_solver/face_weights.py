@@ -36,6 +36,7 @@ import scipy.sparse.linalg as spla
 
 from .element_faces import FaceType
 from .errors import ReferenceSolverError
+from .quadrature import tri_rule
 
 
 def face_shares(face: FaceType, xyz: np.ndarray) -> np.ndarray:
@@ -84,20 +85,63 @@ def multiplier_basis(face: FaceType, alpha: float = 0.2) -> np.ndarray:
     return Q
 
 
+def _hat_triangles(face: FaceType) -> list[np.ndarray]:
+    """Sub-triangles of a quadratic face for :func:`hat_mortar`: each (3, k), the weights of its vertices on
+    the face nodes (a node, or the centre of a quad8 = the mean of its mid-sides)."""
+    k, nc = face.n_nodes, face.n_corners
+    eye = np.eye(k)
+    mid = lambda i: eye[nc + i % nc]                       # noqa: E731  mid-side of edge (i, i + 1)
+    tris = [np.array([eye[i], mid(i), mid(i - 1)]) for i in range(nc)]          # corner triangles
+    if nc == 3:
+        tris.append(np.array([mid(0), mid(1), mid(2)]))
+    else:
+        centre = eye[nc:].mean(axis=0)
+        tris += [np.array([mid(i), mid(i + 1), centre]) for i in range(nc)]
+    return tris
+
+
+def hat_mortar(face: FaceType, xyz: np.ndarray) -> np.ndarray:
+    """D_ab = int Phi_a N_b dA (nf, k, k) [m^2] with Phi the non-negative hat basis of a quadratic face: piecewise
+    linear on the sub-triangles of :func:`_hat_triangles` (corner triangles cut off by the mid-sides; the rest
+    a triangle (tri6) or four around the centre (quad8)), Phi_a(node b) = delta_ab, sum 1, linear fields
+    reproduced. Non-negative everywhere, so a zero weighted gap int Phi_a g dA = 0 needs the surface to touch
+    within Phi_a's support (the modified basis, negative in places, lets g > 0 at every node of a closed row)."""
+    xyz = np.asarray(xyz, float)
+    tp, tw = tri_rule(4)
+    out = np.zeros((xyz.shape[0], face.n_nodes, face.n_nodes))
+    for V in _hat_triangles(face):
+        corners = V @ face.nodes                                                # (3, 2) natural coordinates
+        e1, e2 = corners[1] - corners[0], corners[2] - corners[0]
+        det = abs(e1[0] * e2[1] - e1[1] * e2[0])
+        pts = corners[0] + tp[:, :1] * e1 + tp[:, 1:] * e2
+        bary = np.column_stack([1 - tp.sum(axis=1), tp[:, 0], tp[:, 1]])       # (p, 3)
+        phi = bary @ V                                                          # (p, k) hat values
+        d = face.dshape(pts)
+        a = np.einsum("pa,fad->fpd", d[:, 0], xyz)
+        b = np.einsum("pa,fad->fpd", d[:, 1], xyz)
+        jw = np.linalg.norm(np.cross(a, b), axis=2) * (tw * det)                # (nf, p)
+        out += np.einsum("fp,pa,pb->fab", jw, phi, face.shape(pts))
+    return out
+
+
 def face_matrix(nodes: np.ndarray, faces, lumped: bool = False,
                 modified: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
     """Surface nodes (m,) and the assembled M (m x m, CSR) [m^2] of ``faces`` [(face type, conn), ...]
     (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead; ``modified``: the mortar matrix
-    D_ab = int Phi_a N_b dA of the :func:`multiplier_basis` (not symmetric on 8-/6-node faces)."""
+    D_ab = int Phi_a N_b dA (not symmetric on 8-/6-node faces) of the :func:`multiplier_basis` (True or
+    'modified') or of the hat basis ('hat', :func:`hat_mortar`; 4-/3-node faces keep M)."""
     if not faces:
         raise ReferenceSolverError("contact surface: no element face has all its nodes on it")
     nodes = np.asarray(nodes, float)
     surf = np.unique(np.concatenate([c.ravel() for _, c in faces]))
     rows, cols, vals = [], [], []
     for ftype, conn in faces:
-        Me = face_mass(ftype, nodes[conn])
-        if modified:
-            Me = np.einsum("ab,fbc->fac", multiplier_basis(ftype), Me)
+        if modified == "hat" and ftype.n_nodes > ftype.n_corners:
+            Me = hat_mortar(ftype, nodes[conn])
+        else:
+            Me = face_mass(ftype, nodes[conn])
+            if modified:
+                Me = np.einsum("ab,fbc->fac", multiplier_basis(ftype), Me)
         loc = np.searchsorted(surf, conn)
         k = conn.shape[1]
         rows.append(np.repeat(loc, k, axis=1).ravel())

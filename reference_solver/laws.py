@@ -9,6 +9,8 @@ A law is bound to a condensed system (``law = LAWS[method](system, k_factor, alg
   increment back; ``depth`` = cutbacks so far) or ``GrossSlip``;
 - ``track(lo, lam_lo, lam_hi, dcoeffs, watch)`` the exact onset ``(lambda, row)`` inside a bracket by
   following the piecewise-linear path (:mod:`reference_solver.onset`), or None (the driver bisects);
+- ``onset_watch(watch)`` the watched rows whose opening is a liftoff (default: all of ``watch``), ``lifted(state,
+  watch)`` (optional) which of them are lifted in a state (default: gap > 0 and not closed, onset.lifted_rows);
 - ``arrays(states)`` the per-increment arrays of :class:`reference_solver.solution.Solution`;
 - ``retained(states)`` the retained displacements that ``system.recover`` turns into fields.
 
@@ -75,6 +77,10 @@ class ContactLaw:
 
     def track(self, lo: State, lam_lo: float, lam_hi: float, dcoeffs: np.ndarray, watch: np.ndarray):
         return None
+
+    def onset_watch(self, watch: np.ndarray) -> np.ndarray:
+        """The rows of ``watch`` (bool per contact row) whose opening is a liftoff: all of them."""
+        return watch
 
     def checked(self, u, force, closed, its, **extra) -> State:
         if not (np.all(np.isfinite(u)) and np.all(np.isfinite(force))):
@@ -170,6 +176,21 @@ class LagrangeLaw(ContactLaw):
         return self.checked(g - self.c0, W.to_force(lam), closed, its,
                             penetration=float(max(0.0, -g.min(initial=0.0))))
 
+    def onset_watch(self, watch):
+        """Face-weighted: the rows where the pressure field's nodal value is the row's own multiplier (every row
+        with the hat basis; with the modified one the corners and rows off 8-/6-node faces: a mid-side's value
+        (1 - 2 alpha) lambda_m + alpha (lambda_c1 + lambda_c2) vanishes only once its corners' rows are open, so
+        the first node whose pressure reaches 0 is one of these; face_law.py)."""
+        return watch if self.weighted is None else watch & self.weighted.own
+
+    def lifted(self, st, watch):
+        """Bool per row: watched and lifted. Face-weighted: an :meth:`onset_watch` row that is open (lambda = 0,
+        weighted gap > 0): the pressure field is 0 at its node; its nodal gap D^-1 g~ may still be <= 0 by
+        the weak condition's ~1e-3 of the open gaps. Nodal: gap > 0 and not closed."""
+        if self.weighted is None:
+            return watch & (self.c0 + st.x[:self.c0.size] > 0) & ~st.active
+        return self.onset_watch(watch) & ~st.active
+
     def sigma_n(self, force):
         """Face-weighted: the pressure field's nodal values -E lambda, lambda = D^-T r (face_law.py)."""
         if self.weighted is None:
@@ -178,13 +199,22 @@ class LagrangeLaw(ContactLaw):
         return 0.0 - (W.E @ W.to_pressure(np.asarray(force, float).T)).T
 
     def track(self, lo, lam_lo, lam_hi, dcoeffs, watch):
+        """Exact onset: the piecewise-linear path of the LCP; face-weighted, in its own variables (weighted gaps
+        g~ = D (c0 + x), multipliers lambda = D^-T r, load rate D^-T f'), whose rows open when lambda hits 0."""
         if self.weighted is not None:
-            return None                                        # the driver bisects
+            W = self.weighted
+            return track_lagrange(W.S, W.to_pressure(self.load(dcoeffs)), lam_lo, lam_hi, W.weigh(self.c0 + lo.x),
+                                  W.to_pressure(lo.p), lo.active, watch, solver=self.solver)
         return track_lagrange(self.system.Sc, self.load(dcoeffs), lam_lo, lam_hi, self.c0 + lo.x, lo.p, lo.active,
                               watch, solver=self.solver)
 
 
 LAWS: dict[str, type[ContactLaw]] = {"penalty": PenaltyLaw, "lagrange": LagrangeLaw}
+
+
+# Laws that replace a method's own on a weighted problem, by (contact_weighting, method); filled by their modules
+# (face_penalty.py: ('face', 'penalty'), imported by the package). LagrangeLaw weighs its own rows (face_law.py).
+WEIGHTED_LAWS: dict[tuple[str, str], type[ContactLaw]] = {}
 
 
 def register(law: type[ContactLaw]) -> type[ContactLaw]:
@@ -208,7 +238,10 @@ def make_law(system, method: str, k_factor: float = 1.0, algorithm: str | None =
     if method not in LAWS:
         raise ReferenceSolverError(f"method = {method!r}: must be one of {', '.join(LAWS)}")
     weighting = system.problem.contact_weighting
+    if (weighting, method) in WEIGHTED_LAWS:                   # e.g. ('face', 'penalty'): face_penalty.py
+        return WEIGHTED_LAWS[weighting, method](system, k_factor, algorithm)
     if weighting != "nodal" and method != "lagrange":
         raise ReferenceSolverError(f"contact_weighting = {weighting!r}: only the lagrange method has a "
-                                   f"face-weighted law (not {method}); use lagrange")
+                                   f"{weighting}-weighted law (not {method}); use lagrange"
+                                   + (" (or 'face' for penalty)" if method == "penalty" else ""))
     return LAWS[method](system, k_factor, algorithm)

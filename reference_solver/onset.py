@@ -93,14 +93,23 @@ def track_lagrange(S, fr, lo, hi, g_lo, w_lo, closed_lo, watch, max_events=None,
     return None
 
 
-def is_open(st: State, c0: np.ndarray, watch: np.ndarray) -> bool:
-    """Whether a watched row of ``st`` is open (gap > 0 and not closed)."""
-    return bool(np.any(watch & (c0 + st.x[:c0.size] > 0) & ~st.active))
+def lifted_rows(st: State, c0: np.ndarray, watch: np.ndarray, law=None) -> np.ndarray:
+    """Bool per row: watched and lifted in ``st``: ``law.lifted(st, watch)`` where the law defines its own lift
+    (the face-weighted Lagrange law: the pressure field is 0 there), else gap > 0 and not closed."""
+    own = getattr(law, "lifted", None)
+    if own is not None:
+        return own(st, watch)
+    return watch & (c0 + st.x[:c0.size] > 0) & ~st.active
 
 
-def widest_open(st: State, c0: np.ndarray, watch: np.ndarray) -> int:
+def is_open(st: State, c0: np.ndarray, watch: np.ndarray, law=None) -> bool:
+    """Whether a watched row of ``st`` is open (:func:`lifted_rows`)."""
+    return bool(np.any(lifted_rows(st, c0, watch, law)))
+
+
+def widest_open(st: State, c0: np.ndarray, watch: np.ndarray, law=None) -> int:
     """The watched open row with the largest gap (the onset row of a bisected onset)."""
-    cand = np.flatnonzero(watch & ~st.active)
+    cand = np.flatnonzero(lifted_rows(st, c0, watch, law) if hasattr(law, "lifted") else watch & ~st.active)
     return int(cand[np.argmax((c0 + st.x[:c0.size])[cand])])
 
 
@@ -124,7 +133,7 @@ def first_opening(law, run: Callable, lo: tuple, hi: tuple, back: tuple | None, 
                 below, above = check(a_st, co(ev[0] - delta)), check(a_st, co(ev[0] + delta))
             else:
                 below, above = run(a_st, ev[0] - delta, None), run(a_st, ev[0] + delta, None)
-            if not is_open(below, c0, watch) and is_open(above, c0, watch):
+            if not is_open(below, c0, watch, law) and is_open(above, c0, watch, law):
                 return float(ev[0]), int(ev[1]), "path-following"
     while abs(b - a) > max(tol, law.onset_floor) * scale:
         mid = 0.5 * (a + b)
@@ -133,12 +142,12 @@ def first_opening(law, run: Callable, lo: tuple, hi: tuple, back: tuple | None, 
         else:
             guess = a_st.x + (mid - a) / (b - a) * (b_st.x - a_st.x)
         mst = run(a_st, mid, guess)
-        if is_open(mst, c0, watch):
+        if is_open(mst, c0, watch, law):
             b, b_st = mid, mst
         else:
             back = (a, a_st)
             a, a_st = mid, mst
-    return b, widest_open(b_st, c0, watch), "bisection"
+    return b, widest_open(b_st, c0, watch, law), "bisection"
 
 
 def reach(run: Callable, a_st: State, a: float, lam: float, guess, scale: float, tips: Callable):

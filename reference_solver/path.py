@@ -89,6 +89,7 @@ def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
     cr = system.coeffs({"T": 1.0, "M": 1.0} if ramp is None else ramp)
     co = lambda lam: cb + lam * cr  # noqa: E731
     watch = np.ones(p.n_contacts, bool) if liftoff_surface is None else p.contact_surface == liftoff_surface
+    watch = law.onset_watch(watch) if hasattr(law, "onset_watch") else watch   # rows whose opening is a lift
     c0 = p.contact_clearance
     scale = max(abs(v) for v in targets + [lambda_max])
 
@@ -110,8 +111,8 @@ def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
     done(Increment(1, 1, 0.0, cb, first))
     done(Increment(2, 0, 0.0, cb, replace(first, iterations=0, augmentations=0)))
     lift = slide = None
-    if onset != "off" and is_open(first, c0, watch):
-        lift = (0.0, widest_open(first, c0, watch), None)
+    if onset != "off" and is_open(first, c0, watch, law):
+        lift = (0.0, widest_open(first, c0, watch, law), None)
     lam_prev, j = 0.0, 0
     for target in targets:
         for m in range(1, increments + 1):
@@ -129,7 +130,7 @@ def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
             if law.tips_open and watch.any() and not np.any(st.active & watch):
                 raise ReferenceSolverError(f"step 2, load factor {lam:.6g}: the load tips the body over "
                                            f"(every {liftoff_surface or 'contact'} row is open)")
-            if lift is None and onset != "off" and is_open(st, c0, watch):
+            if lift is None and onset != "off" and is_open(st, c0, watch, law):
                 back = rows[-2] if rows[-2].step == 2 and rows[-2].load_factor != lo.load_factor else None
                 lift = first_opening(law, lambda a_st, b, g: run(a_st, b, None, g), (lo.load_factor, lo.state),
                                      (lam, st), None if back is None else (back.load_factor, back.state), co, cr, watch,

@@ -238,12 +238,16 @@ def ccx_vs_reference(run: Run) -> str:
     Penalty deck vs reference penalty node by node (one nodal law); mortar vs reference Lagrange through the
     wall (sum F / sum A per azimuth): mortar's node force integrates N_i p over the faces, spreading a through-
     wall pressure gradient (a cone's, already under N) unlike the nodal law: 1.1-2.1 % node by node, <= 0.83 %
-    through the wall (docs/mortar_stop.md). An area-weighted mean never fails where the node values pass."""
+    through the wall (docs/mortar_stop.md). An area-weighted mean never fails where the node values pass.
+    Frictionless: ccx f2f vs the reference face-integrated penalty through the wall (docs/ccx_f2f.md)."""
     ran(run)
     if run.model.analysis.nlgeom:
         return "skipped: NLGEOM decks against the small-strain reference"
     out = []
-    for ref, ccx, wall in (("penalty", "penalty", False), ("lagrange", "mortar", True)):
+    pairs = [("penalty", "penalty", False), ("lagrange", "mortar", True)]
+    if "reference/f2f" in run.tables:           # face-to-face penalty vs the face-integrated reference penalty
+        pairs.append(("f2f", "f2f", True))
+    for ref, ccx, wall in pairs:
         r, c = run.tables[f"reference/{ref}"], run.tables[f"ccx/{ccx}"]
         j = r[r.surface == "table"].merge(c[c.surface == "table"], on=["step", "increment", "node"],
                                           suffixes=("_r", "_c"))

@@ -190,6 +190,9 @@ def run_case(case: Case, folder: Path) -> Run:
     ccx = read(run.out / "ccx", model=run.model)
     for method, g in ccx.groupby("method"):
         run.tables[f"ccx/{method}"] = g.reset_index(drop=True)
+    f2f = res["comparison"].source("reference/f2f")   # ccx/f2f's partner, in memory only (deckbridge/reference_f2f.py)
+    if f2f is not None:
+        run.tables["reference/f2f"], run.walls["reference/f2f"] = f2f.table, f2f.wall
     return run
 
 

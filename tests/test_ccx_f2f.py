@@ -16,7 +16,8 @@ from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
 from deckbridge.dialects.calculix.render import f2f_context, f2f_face_slopes
-from deckbridge.solve import solve_model
+from deckbridge.solve import condense_model, solve_model, solve_system
+from reference_solver.face_penalty import face_weighted
 
 SMALL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1"]
 HELD_OUT = ["geometry.radius=1.3", "geometry.height=1.8", "geometry.thickness=0.015", "mesh.n_theta=32",
@@ -59,64 +60,114 @@ def _f2f_run(model, folder):
     return read(ccx_job(model, folder, "f2f").with_suffix(".frd"), fmt="calculix", model=model)
 
 
-@needs_ccx
-@pytest.mark.parametrize("overrides", [SMALL, HELD_OUT], ids=["small", "held_out"])
-def test_ccx_f2f_balances_the_load_and_equals_the_reference_penalty_while_the_base_is_closed(overrides, tmp_path):
-    """Every state: the read table forces carry N (1e-6 N relative). While no table node of the reference has
-    lifted: through-wall sigma_N within 0.1 % of the peak and node by node within 2.5 % (measured 0.005 % and
-    0.4 % small, 0.006 % and 1.8 % held out: the consistent spreading through the wall). Past liftoff inside
-    the small-strain range (lift / R <= 0.01) the contact-edge azimuths differ (docs/ccx_f2f.md): through-wall
-    within 10 % (measured 1.4 / 6.5 % small at lambda 0.7 / 0.8, 0.6-8.0 % held out)."""
-    model = load(None, overrides)
-    ccx = _f2f_run(model, tmp_path)
-    ref, _ = solve_model(model, "penalty", recover=False)
-    n_closed = n_lifted = 0
+def _reference(model, face: bool):
+    """The reference penalty table of ``model``: face-integrated (reference_solver/face_penalty.py) or nodal."""
+    mesh, system = condense_model(model)
+    return solve_system(model, mesh, face_weighted(system) if face else system, "penalty", recover=False)[0]
+
+
+def _differences(model, ref, ccx):
+    """[(step, lambda, lift / R, through-wall, node by node, closed)] max |d sigma_N| / peak at every state of
+    the reference ``ref`` that ccx has."""
+    out = []
     for (step, inc), g in ref[ref.surface == "table"].groupby(["step", "increment"]):
         lam = float(g.load_factor.iloc[0])
         c = ccx[(ccx.step == step) & np.isclose(ccx.load_factor, lam) & (ccx.surface == "table")]
         if c.empty:
             continue                                       # ccx prints step 2 from its first increment
         assert abs(c.force_n.sum() - model.loads.N) <= 1e-6 * model.loads.N, (step, lam)
-        lift = max(float(g.gap_m.max()), 0.0) / model.geometry.radius
-        if lift > 0.01:
-            continue
         peak = float(np.abs(g.sigma_n_pa).max())
         tw = float(np.abs(_through_wall(ref, lam, step) - _through_wall(ccx, lam, step)).max()) / peak
         j = g.merge(c, on="node", suffixes=("_r", "_c"))
+        assert len(j) == len(g)
         node = float(np.abs(j.sigma_n_pa_r - j.sigma_n_pa_c).max()) / peak
-        if float(g.gap_m.max()) <= 0.0:
-            assert tw <= 1e-3 and node <= 0.025, (lam, tw, node)
-            n_closed += 1
-        else:
-            assert tw <= 0.10, (lam, tw)
-            n_lifted += 1
-    assert n_closed >= 5 and n_lifted >= 1
+        lift = max(float(g.gap_m.max()), 0.0) / model.geometry.radius
+        out.append((step, lam, lift, tw, node, float(g.gap_m.max()) <= 0.0))
+    return out
 
 
 @needs_ccx
-def test_ccx_f2f_and_the_reference_penalty_approach_lagrange_as_the_slope_grows(tmp_path):
-    """alpha 0.1, 1, 10 (slope x 1, 10, 100): max |sigma_N - sigma_N,Lagrange| / peak (the reference Lagrange of
-    the same model: its circumferential springs follow k_c) falls at every lambda
-    with lift / R <= 0.01 past onset (0.6, 0.7, 0.8) for both the face-to-face deck and the nodal reference
-    penalty. Measured at lambda 0.8: f2f 58.8 / 51.0 / 33.9 %, nodal 53.6 / 35.5 / 22.3 %: the face-to-face
-    penalty nears the nodal Lagrange solution more slowly (docs/ccx_f2f.md)."""
-    errs = {"f2f": [], "penalty": []}
+@pytest.mark.parametrize("overrides, node_tol", [(SMALL, 0.006), (HELD_OUT, 0.025)], ids=["small", "held_out"])
+def test_ccx_f2f_equals_the_reference_face_penalty_inside_the_small_strain_range(overrides, node_tol, tmp_path):
+    """Every state: the read table forces carry N (1e-6 N relative). At every lambda with lift / R <= 0.01 the
+    reference face-integrated penalty (same slope, ccx's integration points) and ccx f2f agree through the wall
+    within 0.1 % of the peak (measured <= 0.036 % small, <= 0.016 % held out, past liftoff included) and node by
+    node within ``node_tol`` (measured 0.44 % small, 2.16 % held out: a through-wall redistribution in ccx's
+    master reactions that grows from 0 under N alone, the same against the nodal reference, docs/ccx_f2f.md).
+    The nodal reference penalty is a different discretisation at the contact edge: through the wall its largest
+    difference in the same range is > 10 x the face penalty's (measured 6.4 % small at lambda 0.8, 0.57 % held
+    out at 0.6; held out, lambda 0.7 has lift / R 0.011)."""
+    model = load(None, overrides)
+    ccx = _f2f_run(model, tmp_path)
+    face = _differences(model, _reference(model, True), ccx)
+    inside = [d for d in face if d[2] <= 0.01]
+    assert len(inside) >= 7 and sum(1 for d in inside if not d[5]) >= 1          # past liftoff included
+    for step, lam, lift, tw, node, closed in inside:
+        assert tw <= 1e-3 and node <= node_tol, (step, lam, tw, node)
+    nodal = [d for d in _differences(model, _reference(model, False), ccx) if d[2] <= 0.01]
+    assert max(d[3] for d in nodal) > 10 * max(d[3] for d in inside)
+
+
+def _table_at(df, lam):
+    d = df[(df.surface == "table") & (df.step == 2) & np.isclose(df.load_factor, lam)]
+    return d.set_index("node").sigma_n_pa
+
+
+def _off(ref, other, lams=(0.6, 0.7, 0.8)):
+    """max |sigma_N - sigma_N,ref| / peak |sigma_N,ref| of the table at each lambda of step 2."""
+    out = []
+    for lam in lams:
+        r, c = _table_at(ref, lam), _table_at(other, lam)
+        out.append(float(np.abs(r - c.reindex(r.index)).max() / np.abs(r).max()))
+    return out
+
+
+@needs_ccx
+def test_ccx_f2f_and_the_reference_face_penalty_approach_lagrange_together(tmp_path):
+    """alpha 0.1, 1, 10 (slope x 1, 10, 100) on the small mesh: max |sigma_N - sigma_N,Lagrange| / peak against the
+    reference (nodal) Lagrange of the same model (its circumferential springs follow k_c) falls at lambda 0.6,
+    0.7, 0.8 for ccx f2f and for the reference face penalty, and the two stay within 2 % of the peak of each
+    other node by node at every alpha (measured at lambda 0.8: f2f 58.8 / 51.0 / 33.9 %, face penalty 59.0 /
+    51.0 / 33.9 %; f2f against the face penalty <= 0.5 %, docs/ccx_f2f.md)."""
+    errs = {"f2f": [], "face": []}
     for alpha in (0.1, 1.0, 10.0):
         model = load(None, SMALL + [f"contact.penalty.alpha={alpha}"])
         lag, _ = solve_model(model, "lagrange", recover=False)   # its springs follow k_c too (k_tangent: follow)
-        lags = lag[(lag.surface == "table") & (lag.step == 2)]
-        tables = {"f2f": _f2f_run(model, tmp_path / f"a{alpha}"), "penalty": solve_model(model, "penalty",
-                                                                                           recover=False)[0]}
-        for name, df in tables.items():
-            row = []
-            for lam in (0.6, 0.7, 0.8):
-                r = lags[np.isclose(lags.load_factor, lam)]
-                c = df[(df.surface == "table") & (df.step == 2) & np.isclose(df.load_factor, lam)]
-                j = r.merge(c, on="node", suffixes=("_r", "_c"))
-                assert len(j) == len(r)
-                row.append(float(np.abs(j.sigma_n_pa_r - j.sigma_n_pa_c).max() / np.abs(r.sigma_n_pa).max()))
-            errs[name].append(row)
+        ccx, face = _f2f_run(model, tmp_path / f"a{alpha}"), _reference(model, True)
+        errs["f2f"].append(_off(lag, ccx))
+        errs["face"].append(_off(lag, face))
+        assert max(_off(face, ccx)) <= 0.02, alpha
     for name, e in errs.items():
-        e = np.array(e)
-        assert np.all(np.diff(e, axis=0) < 0), (name, e)
-    assert errs["f2f"][2][2] > errs["penalty"][2][2]
+        assert np.all(np.diff(np.array(e), axis=0) < 0), (name, e)
+
+
+def test_face_penalty_approaches_the_nodal_lagrange_not_the_face_weighted_one():
+    """The reference face penalty at alpha 0.1 ... 1000 (slope x 1 ... 10^4), small mesh, lambda 0.7 and 0.8: its
+    distance to the nodal Lagrange solution (node forces / tributary area) falls at every step (measured at 0.8:
+    59.0 / 51.0 / 33.9 / 19.5 / 6.9 %): its stiff limit is g >= 0 at the integration points, which on 4-node
+    faces (N_a >= 0) nearly is g_a >= 0. It does not approach the face-weighted Lagrange law (the consistent
+    mortar matrix, face_law.py: 41 / 31 / 21 / 40 / 50 %)."""
+    import warnings
+    from deckbridge.tangent_springs import follow_springs
+    import reference_solver as rs
+    near_nodal, near_face = [], []
+    for alpha in (0.1, 1.0, 10.0, 100.0, 1000.0):
+        model = load(None, SMALL + [f"contact.penalty.alpha={alpha}"])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            _, system = condense_model(model)
+        p = system.problem
+        tab = p.contact_surface == "table"
+        r = {}
+        for key, sysm, method in (("face", face_weighted(system), "penalty"), ("nlag", system, "lagrange"),
+                                  ("flag", face_weighted(system), "lagrange")):
+            sol = rs.solve_path(follow_springs(sysm, method, 1.0), method, base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0},
+                                lambda_max=1.0, increments=10, recover=False)
+            pick = [int(np.flatnonzero((sol.step == 2) & np.isclose(sol.load_factor, lam))[0]) for lam in (0.7, 0.8)]
+            r[key] = sol.force[pick][:, tab] / p.contact_area[tab]      # forces / tributary area [Pa]
+        d = lambda a, b: np.abs(r[a] - r[b]).max(axis=1) / np.abs(r[b]).max(axis=1)  # noqa: E731
+        near_nodal.append(d("face", "nlag"))
+        near_face.append(d("face", "flag"))
+    near_nodal, near_face = np.array(near_nodal), np.array(near_face)
+    assert np.all(np.diff(near_nodal, axis=0) < 0), near_nodal
+    assert near_nodal[-1, 1] < 0.1 and near_face[-1, 1] > 0.3, (near_nodal, near_face)

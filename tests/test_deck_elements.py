@@ -37,8 +37,7 @@ def test_hex8_decks_match_the_reference_c3d8_within_2_percent(tmp_path):
 
 
 @pytest.mark.parametrize("dialect, why", [("nastran", "CGAP"), ("mystran", "CGAP"),
-                                          ("abaqus", "node-to-surface"), ("calculix", "GAPUNI"),
-                                          ("nastran_surface", "8-node CHEXA")])
+                                          ("calculix", "GAPUNI")])
 def test_node_based_dialects_refused_on_quadratic_faces(tmp_path, dialect, why):
     model = load(None, SMALL + ["mesh.element=hex20r"])
     with pytest.raises(DeckUnsupported, match=f"(?i)mesh.element = hex20r: .*{why}.*calculix") as err:
@@ -47,12 +46,13 @@ def test_node_based_dialects_refused_on_quadratic_faces(tmp_path, dialect, why):
     assert not any(tmp_path.glob("*.inp")) and not any(tmp_path.glob("*.bdf"))
 
 
-def test_calculix_writes_only_the_mortar_deck_on_quadratic_faces(tmp_path):
+def test_calculix_writes_the_mortar_and_face_to_face_decks_on_quadratic_faces(tmp_path):
     model = load(None, SMALL + ["mesh.element=tet10", "contact.stop.side=none"])
     files = render_all(model, tmp_path, names=["calculix"])
-    assert [f.name for f in files] == ["JAR_ccx_lagrange.inp"]
-    text = files[0].read_text()
-    assert "TYPE=MORTAR" in text and "*ELEMENT, TYPE=C3D10, ELSET=ESKIRT" in text and "GAPUNI" not in text
+    assert [f.name for f in files] == ["JAR_ccx_lagrange.inp", "JAR_ccx_f2f.inp"]
+    for f, pair in zip(files, ("TYPE=MORTAR", "TYPE=SURFACE TO SURFACE")):
+        text = f.read_text()
+        assert pair in text and "*ELEMENT, TYPE=C3D10, ELSET=ESKIRT" in text and "GAPUNI" not in text
 
 
 def test_twenty_node_cards_continue_after_sixteen_entries():

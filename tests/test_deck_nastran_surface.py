@@ -141,3 +141,177 @@ def test_friction_variant_writes_fric_and_no_springs(tmp_path):
     _, path = _deck(tmp_path, SMALL + ["contact.stop.side=none"])
     bdf = read_bdf(str(path), xref=True, debug=None)
     assert set(bdf.bsurfs) == {1, 2} and bdf.bctsets[1].sids == [1] and bdf.card_count["CELAS2"] == 24 * 3
+
+
+# --- issue 23: quadratic skirts (CHEXA 20 / CTETRA 10 / CPENTA 15 with their mid-side grids) ----------------
+
+# Nastran's mid-side grids, edge by edge (QRG CHEXA / CPENTA / CTETRA, 1-based corners), written out here: G9..G20,
+# G7..G15, G5..G10. meshio's nastran writer permutes VTK's (= CalculiX's) 20- and 15-node order to these.
+NASTRAN_EDGES = {
+    20: [(1, 2), (2, 3), (3, 4), (4, 1), (1, 5), (2, 6), (3, 7), (4, 8), (5, 6), (6, 7), (7, 8), (8, 5)],
+    15: [(1, 2), (2, 3), (3, 1), (1, 4), (2, 5), (3, 6), (4, 5), (5, 6), (6, 4)],
+    10: [(1, 2), (2, 3), (3, 1), (1, 4), (2, 4), (3, 4)],
+}
+QUAD = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "contact.stop.side=none"]
+
+
+def _xyz(bdf, ids):
+    return np.array([bdf.nodes[int(g)].get_position() for g in ids])
+
+
+@pytest.mark.parametrize("element, skirt, layer", [("hex20r", "CHEXA", "CHEXA"), ("tet10", "CTETRA", "CPENTA"),
+                                                   ("wedge15", "CPENTA", "CPENTA")])
+def test_quadratic_solids_in_nastran_order_read_back_with_xref(tmp_path, element, skirt, layer):
+    """pyNastran reads the deck with cross-referencing; every solid (skirt and target layer) has its mid-side grids
+    at the mid-points of Nastran's edges (within 0.1 of the edge: the skirt's curved edges lie on the true
+    cylinder) and a positive Jacobian at every Gauss point once put back in CalculiX order by the importer's
+    permutation (node_order_problem); the skirt's cells are the mesh's, grid for grid."""
+    from deckbridge.importers.node_order import node_order_problem, to_calculix_order
+
+    model, path = _deck(tmp_path, QUAD + [f"mesh.element={element}"])
+    mesh = build_mesh(model)
+    bdf = read_bdf(str(path), xref=True, debug=None)
+    kinds = {(e.type, e.pid, len(e.node_ids)) for e in bdf.elements.values() if e.type in ("CHEXA", "CPENTA", "CTETRA")}
+    n = mesh.hexes.shape[1]
+    assert kinds == {(skirt, 1, n), (layer, 2, 20 if layer == "CHEXA" else 15)}
+    for e in bdf.elements.values():
+        if e.type not in ("CHEXA", "CPENTA", "CTETRA"):
+            continue
+        x = _xyz(bdf, e.node_ids)
+        k = len(e.node_ids)
+        nc = k - len(NASTRAN_EDGES[k])
+        for m, (a, b) in enumerate(NASTRAN_EDGES[k]):
+            off = np.linalg.norm(x[nc + m] - (x[a - 1] + x[b - 1]) / 2)
+            assert off <= 0.1 * np.linalg.norm(x[a - 1] - x[b - 1]), (e.eid, nc + m + 1, a, b)
+    for pid, name in ((1, mesh.element), (2, {"CHEXA": "c3d20", "CPENTA": "c3d15"}[layer])):
+        cells = [e for e in bdf.elements.values() if getattr(e, "pid", None) == pid and e.type in (skirt, layer)]
+        ids = sorted({g for e in cells for g in e.node_ids})
+        row = {g: i for i, g in enumerate(ids)}
+        conn = to_calculix_order(cells[0].type, np.array([[row[g] for g in e.node_ids] for e in cells]))
+        assert node_order_problem(_xyz(bdf, ids), conn, name) is None
+        if pid == 1:
+            assert np.array_equal(np.array([ids[i] for i in conn.ravel()]).reshape(conn.shape) - 1, mesh.hexes)
+
+
+@pytest.mark.parametrize("element", ["hex20r", "tet10"])
+def test_quadratic_bsurfs_name_faces_by_corner_grids_and_meet_their_targets(tmp_path, element):
+    """BSURFS source: element + three corner grids (not mid-side) of a face at z = 0; the faces' corners and the
+    mid-sides of their edges (Nastran's edge table) are exactly the table's slave nodes; each target face (corners
+    and mid-sides of the layer cell's near face) sits on its source face's grid positions (clearance 0)."""
+    model, path = _deck(tmp_path, QUAD + [f"mesh.element={element}"])
+    mesh = build_mesh(model)
+    bdf = read_bdf(str(path), xref=True, debug=None)
+
+    def face(eid, three):
+        e = bdf.elements[eid]
+        k = len(e.node_ids)
+        nc = k - len(NASTRAN_EDGES[k])
+        corners = [g for g in e.node_ids[:nc] if g in three or abs(bdf.nodes[g].get_position()[2] -
+                                                                    bdf.nodes[three[0]].get_position()[2]) < 1e-12]
+        assert set(three) <= set(e.node_ids[:nc])                               # three corner grids
+        mids = [e.node_ids[nc + m] for m, (a, b) in enumerate(NASTRAN_EDGES[k])
+                if e.node_ids[a - 1] in corners and e.node_ids[b - 1] in corners]
+        assert len(corners) in (3, 4) and len(mids) == len(corners)
+        return corners, mids
+
+    covered, src_pos = set(), []
+    for eid, *three in zip(bdf.bsurfs[1].eids, bdf.bsurfs[1].g1s, bdf.bsurfs[1].g2s, bdf.bsurfs[1].g3s):
+        c, m = face(eid, three)
+        x = _xyz(bdf, c + m)
+        np.testing.assert_allclose(x[:, 2], 0.0, atol=1e-12)
+        covered |= set(c + m)
+        src_pos.append(sorted(map(tuple, np.round(x, 9))))
+    assert covered == set((mesh.table.nodes + 1).tolist())
+    tgt_pos = []
+    for eid, *three in zip(bdf.bsurfs[2].eids, bdf.bsurfs[2].g1s, bdf.bsurfs[2].g2s, bdf.bsurfs[2].g3s):
+        c, m = face(eid, three)
+        tgt_pos.append(sorted(map(tuple, np.round(_xyz(bdf, c + m), 9))))
+    assert sorted(src_pos) == sorted(tgt_pos)
+
+
+@needs_data
+def test_quadratic_deck_keeps_the_real_simcenter_layout(tmp_path):
+    """The same contact cards as the Femap-written Simcenter deck (less BCTPARM), every BSURFS entry three grids of
+    one face of its element by pyNastran's own face table, in both decks (the real one: 8-node CHEXA)."""
+    _, path = _deck(tmp_path, QUAD + ["mesh.element=hex20"])
+    ours = read_bdf(str(path), xref=True, debug=None)
+    real = read_bdf(str(DATA / "contact_model.bdf"), xref=True, debug=None)
+    kinds = lambda b: {c for c in b.card_count if c in CONTACT_CARDS}            # noqa: E731
+    assert kinds(real) - kinds(ours) == {"BCTPARM"} and kinds(ours) <= kinds(real)
+    for b in (ours, real):
+        for bs in b.bsurfs.values():
+            for e, *three in zip(bs.eids, bs.g1s, bs.g2s, bs.g3s):
+                _face_of(b, e, three)
+    assert "BCTPARM" not in path.read_text().split("BEGIN BULK")[1]
+
+
+def test_quadratic_refusals_name_the_surface_contact_deck(tmp_path):
+    """CGAP on 8-/6-node faces stays refused, in one line naming nastran_surface; the surface-contact deck with
+    the radial stop on a tet10 skirt is refused in one line too (not written yet)."""
+    from deckbridge.errors import DeckUnsupported
+    from deckbridge.render import render_all
+
+    model = load(None, QUAD + ["mesh.element=hex20r"])
+    with pytest.raises(DeckUnsupported, match=r"CGAP gaps\) opens the corner nodes .*use the nastran_surface "
+                                              r"dialect \(Simcenter surface contact, BSURFS\)") as err:
+        render_all(model, tmp_path / "a", names=["nastran"])
+    assert "\n" not in str(err.value)
+    model = load(None, QUAD[:-1] + ["mesh.element=tet10"])
+    with pytest.raises(DeckUnsupported, match=r"radial stop on a tetrahedral skirt's wall faces is not written yet: "
+                                              r"set contact.stop.side: none") as err:
+        render_all(model, tmp_path / "b", names=["nastran_surface"])
+    assert "\n" not in str(err.value) and not any((tmp_path / "b").glob("*.bdf"))
+
+
+@pytest.mark.parametrize("element", ["hex20r", "tet10"])
+def test_reader_places_the_quadratic_decks_grids(tmp_path, element):
+    """The OP2 reader's geometry path on a quadratic deck: region 1's grids are the table's slave nodes, corners and
+    mid-sides, at the mesh's positions with vertical normals; shares NaN (the corner rule does not hold)."""
+    model, path = _deck(tmp_path, QUAD + [f"mesh.element={element}"])
+    mesh = build_mesh(model)
+    sf = source_faces(path)
+    grids = {n for r, n in sf.share if r == 1}
+    assert grids == set((mesh.table.nodes + 1).tolist())
+    for n in grids:
+        np.testing.assert_allclose(sf.xyz[n], mesh.nodes[n - 1], atol=1e-12)
+        assert abs(sf.normal[1, n][2]) > 0.99 and np.isnan(sf.share[1, n])
+    assert {len(f) for _, f in sf.faces} == ({8} if element == "hex20r" else {6})
+
+
+@pytest.mark.parametrize("element, side", [("hex20r", "inner"), ("wedge15", "outer")])
+def test_quadratic_stop_faces_and_their_targets(tmp_path, element, side):
+    """With the radial stop on a 20-node / 15-node skirt: region 3 = the first row's 8-node wall faces on the stop's
+    side (corner triples of CHEXA 20 / CPENTA 15 wall faces; horizontal), holding every stop slave node; region 4 =
+    20-node CHEXA layer faces whose corners and mid-sides lie on the stop radius (clearance 0: the wall's radius,
+    the true cylinder), every mid-side grid at its Nastran edge's mid-point."""
+    model, path = _deck(tmp_path, QUAD[:-1] + [f"mesh.element={element}", f"contact.stop.side={side}"])
+    mesh = build_mesh(model)
+    bdf = read_bdf(str(path), xref=True, debug=None)
+    g = model.geometry
+    r_wall = g.radius + (g.thickness / 2 if side == "outer" else -g.thickness / 2)
+    assert bdf.bctsets[1].sids == [1, 3] and bdf.bctsets[1].tids == [2, 4]
+
+    def face(eid, three):
+        e = bdf.elements[eid]
+        k = len(e.node_ids)
+        nc = k - len(NASTRAN_EDGES[k])
+        x = _xyz(bdf, e.node_ids)
+        for m, (a, b) in enumerate(NASTRAN_EDGES[k]):
+            assert np.linalg.norm(x[nc + m] - (x[a - 1] + x[b - 1]) / 2) <= 0.1 * np.linalg.norm(x[a - 1] - x[b - 1])
+        assert set(three) <= set(e.node_ids[:nc])
+        r = np.hypot(x[:nc, 0], x[:nc, 1])
+        corners = [gid for gid, ri in zip(e.node_ids[:nc], r) if abs(ri - r_wall) < 1e-9]
+        mids = [e.node_ids[nc + m] for m, (a, b) in enumerate(NASTRAN_EDGES[k])
+                if e.node_ids[a - 1] in corners and e.node_ids[b - 1] in corners]
+        assert len(corners) == 4 and len(mids) == 4 and set(three) <= set(corners)
+        return corners + mids
+
+    covered = set()
+    for eid, *three in zip(bdf.bsurfs[3].eids, bdf.bsurfs[3].g1s, bdf.bsurfs[3].g2s, bdf.bsurfs[3].g3s):
+        covered |= set(face(eid, three))
+    assert set((mesh.stop.nodes + 1).tolist()) <= covered
+    for eid, *three in zip(bdf.bsurfs[4].eids, bdf.bsurfs[4].g1s, bdf.bsurfs[4].g2s, bdf.bsurfs[4].g3s):
+        assert bdf.elements[eid].type == "CHEXA" and len(bdf.elements[eid].node_ids) == 20
+        x = _xyz(bdf, face(eid, three))
+        np.testing.assert_allclose(np.hypot(x[:, 0], x[:, 1]), r_wall, rtol=1e-12)
+    assert min(e.Volume() for e in bdf.elements.values() if e.type in ("CHEXA", "CPENTA")) > 0

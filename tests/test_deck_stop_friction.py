@@ -55,7 +55,7 @@ def test_nastran_stop_pgaps_frictionless(tmp_path, tangential):
 @pytest.mark.parametrize("tangential", ["springs", "friction"])
 def test_abaqus_stop_interaction_frictionless(tmp_path, tangential):
     model, mesh = _model(tangential)
-    (path,) = abaqus.write(model, mesh, tmp_path)
+    path = abaqus.write(model, mesh, tmp_path)[0]          # the Lagrange deck (the augmented one: same pairs)
     mu = {(s, m): f for s, m, f in contact_friction(path)}
     assert mu == {("SLAVE_TABLE", "MASTER_TABLE"): MU, ("SLAVE_STOP", "MASTER_STOP"): 0.0}
 
@@ -82,8 +82,8 @@ def test_decks_leaves_out_mystran_with_friction(tmp_path):
     assert res.exit_code == 0, res.output
     assert "note: mystran deck: contact.tangential = friction" in res.output
     names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
-    assert names == ["JAR_ccx_f2f.inp", "JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp", "JAR_lagrange.inp",
-                     "JAR_model.vtu", "JAR_penalty.bdf", "JAR_surface.bdf"]
+    assert names == ["JAR_augmented.inp", "JAR_ccx_f2f.inp", "JAR_ccx_lagrange.inp", "JAR_ccx_penalty.inp",
+                     "JAR_lagrange.inp", "JAR_model.vtu", "JAR_penalty.bdf", "JAR_surface.bdf"]
     # naming the dialect that cannot carry the model is a one-line refusal, nothing written
     res = CliRunner().invoke(main, ["decks", "--set", f"contact.friction={MU}", "--set",
                                     "contact.tangential=friction", "--dialect", "mystran", "-o",

@@ -108,9 +108,10 @@ def test_lumped_face_law_on_4_node_faces_is_the_nodal_law():
     np.testing.assert_allclose(lumped.force[0], nodal.force[0], rtol=0, atol=1e-9 * np.abs(nodal.force[0]).max())
 
 
-def test_face_weighting_refuses_penalty():
+def test_face_lumped_weighting_refuses_penalty():
+    """('face' with penalty is the face-integrated penalty law: tests/test_face_penalty.py)"""
     A, Sx = _base_area_moment()
-    pr, *_ = _problem("c3d20r", [0, 0, -1e6 * A, -1e6 * A * L[1] / 2, 1e6 * Sx, 0])
+    pr, *_ = _problem("c3d8", [0, 0, -1e6 * A, -1e6 * A * L[1] / 2, 1e6 * Sx, 0], "face-lumped")
     with pytest.raises(rs.ReferenceSolverError, match="only the lagrange method"):
         rs.solve_path(rs.condense(pr), "penalty", base={"N": 1.0}, ramp={"T": 1.0}, increments=1)
 

@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 from click.testing import CliRunner
 
@@ -99,3 +100,45 @@ def test_run_with_a_dialect_without_runner_is_refused_naming_the_runnable_ones(t
     res = CliRunner().invoke(main, ["run", "-o", str(tmp_path / "job"), "--with", "nastran"])
     assert res.exit_code != 0 and "calculix" in res.output and "mystran" in res.output
     assert not (tmp_path / "job").exists()
+
+
+def test_run_recovers_the_fields_once_and_makes_one_friction_table_per_method(tmp_path, monkeypatch):
+    """Per reference method the job recovers every row's displacements once (wall, VTUs and the report's
+    globals share them; the verdict's solves recover nothing) and makes its friction table once (written
+    and compared); what it writes is what ``deckbridge solve`` writes on its own."""
+    import reference_solver as rs
+    import deckbridge.friction_table
+    import deckbridge.job
+    import deckbridge.solve
+    from deckbridge.job import run_job
+
+    sets = ["mesh.n_theta=16", "mesh.n_z=4", "mesh.n_r=1", "steps.increments=3", "contact.friction=0.2",
+            "contact.tangential=friction"]
+    recovered, tables = [], []
+    for cls in (rs.CondensedSystem, rs.FrictionSystem):
+        real = cls.recover
+        def counted(self, x, coeffs, real=real):
+            recovered.append(np.atleast_2d(x).shape[0])
+            return real(self, x, coeffs)
+        monkeypatch.setattr(cls, "recover", counted)
+    real_table = deckbridge.friction_table.friction_table
+    def counted_table(*a, **kw):
+        tables.append(1)
+        return real_table(*a, **kw)
+    for mod in (deckbridge.friction_table, deckbridge.job, deckbridge.solve):
+        monkeypatch.setattr(mod, "friction_table", counted_table)
+    run_job(load(None, sets), tmp_path / "job", echo=lambda s: None)
+    assert len(tables) == 2, tables                              # one friction table per method
+    states = [len(pd.read_csv(tmp_path / "job" / f"reference_{m}" / "contact.csv")[["step", "increment"]]
+                  .drop_duplicates()) for m in ("penalty", "lagrange")]
+    assert recovered == states, (recovered, states)              # one recovery per method, of every row
+    # the job's friction.csv and result.vtu are the ones `deckbridge solve` writes for the same model
+    for m in ("penalty", "lagrange"):
+        monkeypatch.undo()
+        res = CliRunner().invoke(main, ["solve", *[x for s in sets for x in ("--set", s)], "--method", m,
+                                        "-o", str(tmp_path / m)])
+        assert res.exit_code == 0, res.output
+        assert (tmp_path / m / "friction.csv").read_bytes() == \
+            (tmp_path / "job" / f"reference_{m}" / "friction.csv").read_bytes()
+        assert (tmp_path / m / "result.vtu").read_bytes() == \
+            (tmp_path / "job" / f"reference_{m}" / "result.vtu").read_bytes()

@@ -9,8 +9,9 @@ from pathlib import Path
 import click
 
 from .. import limits
+from .. import summary_keys as K
 from ..errors import DeckbridgeError
-from ..methods import K_METHODS, LAGRANGE, NAMES, PENALTY
+from ..methods import AUGMENTED, K_METHODS, LAGRANGE, NAMES, PENALTY
 from ..outdir import lock, remove_stale, staged
 from ._common import main, model_options
 
@@ -79,20 +80,21 @@ def sweep_cmd(model, k_factors, outdir, mesh_opts, grid_opts, claim_lf, tol, loa
                + (f", {len(run['failed_now'])} failed" if run["failed_now"] else "")
                + f" ({run['executor']})")
     for m in s["meshes"]:
-        lag = m["lagrange"]
+        lag = m[LAGRANGE]
         if m.get("grid"):
             click.echo("grid " + " ".join(f"{k}={'follow' if v is None else v}" for k, v in m["grid"].items()))
         click.echo(f"mesh {m['mesh']}: Lagrange liftoff lambda = {_f(lag.get('liftoff_load_factor'))}")
         click.echo(f"  {'k-factor':>9} {'max|dsig| MPa':>14} {'% of peak':>10} {'IoU':>6} {'peak MPa':>9} "
-                   f"{'liftoff':>8}  within tol")
-        for d in m["penalty"]:
+                   f"{'liftoff':>8} {'within tol':>10} {K.ONSET_REL_DIFF + ' %':>16} {K.REPRODUCES}")
+        for d in m[PENALTY]:
             if d.get("error"):
                 click.echo(f"  {d['k_factor']:>9g}  failed: {d['error']}")
                 continue
             click.echo(f"  {d['k_factor']:>9g} {d['max_abs_diff_pa'] / 1e6:>14.3f} {d['max_rel_diff'] * 100:>10.2f} "
                        f"{d['liftoff_zone_iou']:>6.3f} {d['peak_compression_pa'] / 1e6:>9.2f} "
-                       f"{_f(d['liftoff_load_factor']):>8}  {'yes' if d['within_tol'] else 'no'}")
-        for d in m.get("augmented", []):
+                       f"{_f(d['liftoff_load_factor']):>8} {'yes' if d['within_tol'] else 'no':>10} "
+                       f"{_onset(d, lag):>16} {'yes' if d.get(K.REPRODUCES) else 'no'}")
+        for d in m.get(AUGMENTED, []):
             click.echo(f"  {d['k_factor']:>9g}  augmented: " + (f"failed: {d['error']}" if d.get("error") else
                        f"{d['max_abs_diff_pa'] / 1e6:.3g} MPa ({d['max_rel_diff'] * 100:.2g} % of peak) from Lagrange, "
                        f"liftoff {_f(d['liftoff_load_factor'])}"))
@@ -116,11 +118,11 @@ def claims_lines(claims: list[dict]) -> list[str]:
             continue
         on = c["onsets"]
         out.append(f"claims at lambda = {c['load_factor']:.4g} [{c['grid_label'] or c['mesh']}]: onsets first node / "
-                   f"whole section: Lagrange {_f(on['lagrange']['first_node'])} / {_f(on['lagrange']['whole_section'])}; "
-                   + ", ".join(f"k={p['k_factor']:g} {_f(p['first_node'])} / {_f(p['whole_section'])}" for p in on["penalty"]))
+                   f"whole section: Lagrange {_f(on[LAGRANGE]['first_node'])} / {_f(on[LAGRANGE]['whole_section'])}; "
+                   + ", ".join(f"k={p['k_factor']:g} {_f(p['first_node'])} / {_f(p['whole_section'])}" for p in on[PENALTY]))
         for q, v1 in c["claim1"].items():
             v2 = c["claim2"][q]
-            mx = max((d["max_in_lifted_pa"] for d in v1["penalty"] if d["max_in_lifted_pa"] is not None), default=None)
+            mx = max((d["max_in_lifted_pa"] for d in v1[PENALTY] if d["max_in_lifted_pa"] is not None), default=None)
             out.append(f"  {q:<16} claim 1 {'holds' if v1['holds'] else 'no   '} (penalty max in lifted zones "
                        f"{_mpa(mx)} MPa, Lagrange max {_mpa(v1['lagrange_max_pa'])} MPa); claim 2: peak |sigma| "
                        f"{v2['direction']} with k ({', '.join(_mpa(x) for x in v2['peak_abs_pa'])} MPa; Lagrange "
@@ -151,6 +153,15 @@ def _check_sizes(k_factors: str, mesh_opts, load_factors, workers, grid_opts=(),
     limits.check_count("--k-factors x --mesh x --grid", n_grid * n_mesh * per_variant, limits.MAX_CASES, "cases")
     limits.check_count("--load-factor", len(load_factors), limits.MAX_LOAD_FACTORS, "load factors")
     limits.check_workers(workers)
+
+
+def _onset(d: dict, lag: dict) -> str:
+    """The onset difference of a penalty row in % of the Lagrange onset ('one lifts' when only one method lifts
+    off: summary.json holds null there, as for a failed case)."""
+    v = d.get(K.ONSET_REL_DIFF)
+    if v is not None:
+        return f"{v * 100:.2f}"
+    return "one lifts" if (d.get("liftoff_load_factor") is None) != (lag.get("liftoff_load_factor") is None) else "-"
 
 
 def _f(v) -> str:

@@ -250,7 +250,8 @@ def state_quantities(rows, record: SourceResult | None, st) -> dict:
     """Per-state quantities of one source (definitions in :mod:`deckbridge.quantities`)."""
     nodes = Q.sigma_n_nodes(rows)
     out = {"lifted_arc_deg": Q.lifted_arc_deg(rows), "lift_over_radius": Q.lift_over_radius(rows),
-           **Q.open_tension(rows), **Q.free_penetration(rows),
+           **{k: v for k, v in Q.open_tension(rows).items() if k != "warn"},     # "warn": the equilibrium's
+           **Q.free_penetration(rows),
            "contact_resultant_n": -Q.contact_resultant(rows),
            "sigma_n_nodes_pa": {"theta_deg": nodes.index.tolist(),
                                 **{c: nodes[c].tolist() for c in ("inner", "mid", "outer")}}}

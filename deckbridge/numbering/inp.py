@@ -9,7 +9,8 @@ shared by both codes: S1 = 1-2-3-4 (base, outward -z), S2 = 5-8-7-6 (top, +z), S
 wall, +r), S6 = 4-8-5-1 (inner wall, -r).
 
 Master rings: the table is the top face (S2, normal +z) of a ring below z = 0 that overhangs both
-wall faces by one wall thickness and uses the skirt's azimuths; the stop is the wall face of a ring
+wall faces by one wall thickness and uses the skirt's azimuths (on quadratic skirts, whose faces follow the true
+cylinder, its outer edges' mid-points are one wall thickness outside); the stop is the wall face of a ring
 at the stop radius, facing the skirt (S4 = +r for an inner stop, S6 = -r for an outer stop),
 spanning z in [-h1/2, +h1/2] with h1 the first-row height.
 """
@@ -107,7 +108,13 @@ def layout(model: Model, mesh: SkirtMesh, *, masters: tuple[str, ...] = ()) -> L
         h1 = g.height / nz            # issue 23: quadratic / tetrahedral skirt (deckbridge/mesh_order.py)
     table_master = stop_master = None
     if "table" in masters:
-        table_master = ring([r_in - t, r_out + t], [-t, 0.0], nt, next_node, next_elem, FACE_TOP)
+        r_top = r_out + t
+        if getattr(mesh, "quadratic_faces", False):
+            # mid-side nodes on the true cylinder reach r_out between azimuths, where the ring's straight outer
+            # edge is at r cos(pi / n_theta) (16 azimuths: 1.53 -> 1.5006 m < r_out 1.51: a strip of the skirt's
+            # base faces saw no master, measured in ccx); its corners pushed out so the chords pass r_out + t
+            r_top = r_top / np.cos(np.pi / nt)
+        table_master = ring([r_in - t, r_top], [-t, 0.0], nt, next_node, next_elem, FACE_TOP)
         next_node += table_master.node_ids.size
         next_elem += table_master.elem_ids.size
     if "stop" in masters and mesh.stop is not None:

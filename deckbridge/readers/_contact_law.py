@@ -26,6 +26,14 @@ sigma_inf at wide clearances; ccx 2.20 springforc_n2f: p = -K c (1/2 + atan(-c/e
 sigma_inf / K, c its clearance; no c0 there) never compresses at c > 0, and no gap scale of the law (p / K = 4.1e-8 m,
 eps ~ 5e-14 m) covers 3.2e-6 m: the law is judged on ccx's gap, not on a widened tolerance.
 
+Face-weighted rows (issue 23, ``deckbridge/dialects/calculix/face_rows.py``) are judged by the pressure, never by
+the sign of a nodal force: on 8-node faces a uniform pressure gives the corners -1/12 of p A. Their sigma_n_pa is
+a pressure (the L2-projected -M^-1 r of a quadratic mortar job, -CPRESS of a face-to-face one); where the solver's
+own pressure differs from the reported one the reader gives it in column ``law_sigma_pa`` and the sign is judged
+on it (ccx mortar: -CPRESS, its nodal multiplier, >= 0 by its law, where the L2 projection of the nodal forces
+overshoots to tension next to the contact edge: +4 % / +8 % of the peak on hex20r / tet10 24 x 3 x 1 at lambda
+0.6), and the gap of a pressed row is the smallest of its faces' nodes (``law_gap_m``).
+
 A tension at an open node is left alone: penalty contacts carry a small one there (GAPUNI f_inf / A,
 ~1e-2 Pa on the mortar deck's stop), and tables written by hand (tests, other tools) hold beam-theory
 tension at lifted nodes.
@@ -41,7 +49,7 @@ closed springs carry tension by design and its gap is derived from the force), a
 ``preload_pa`` column (Nastran PGAP F0 / area, compression < 0) is subtracted before the check.
 
 Where: the reader's optional ``origin`` column (file and line, or record) names the row; the table is
-returned without the :data:`EXTRA` columns (``origin``, ``preload_pa``, ``law_gap_m``).
+returned without the :data:`EXTRA` columns (``origin``, ``preload_pa``, ``law_gap_m``, ``law_sigma_pa``).
 """
 
 from __future__ import annotations
@@ -50,13 +58,14 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..methods import LAGRANGE
 
 LAW_REL = 1e-3
 GAP_FLOOR = 1e-8          # times the largest |r| of the table (1 m without radii) [m]
-LAGRANGE_METHODS = ("lagrange", "mortar")
+LAGRANGE_METHODS = (LAGRANGE, "mortar")
 WEIGHTED_METHODS = ("mortar", "f2f")      # laws on face-weighted gaps (ccx mortar, ccx face-to-face penalty)
 _STATE = ["source", "method", "step", "increment"]
-EXTRA = ("origin", "preload_pa", "law_gap_m")     # reader columns only this check uses
+EXTRA = ("origin", "preload_pa", "law_gap_m", "law_sigma_pa")     # reader columns only this check uses
 
 
 def _neighbourhood_gap(df: pd.DataFrame, gap: np.ndarray, group: np.ndarray) -> np.ndarray:
@@ -86,6 +95,9 @@ def check_contact_law(df: pd.DataFrame, path) -> pd.DataFrame:
         return df.drop(columns=[c for c in EXTRA if c in df.columns])
     raw = pd.to_numeric(df["sigma_n_pa"], errors="coerce").to_numpy(float)
     s = raw - np.nan_to_num(df["preload_pa"].to_numpy(float)) if "preload_pa" in df.columns else raw
+    if "law_sigma_pa" in df.columns:        # the solver's own pressure beside a projected one (face-weighted rows)
+        own_s = pd.to_numeric(df["law_sigma_pa"], errors="coerce").to_numpy(float)
+        s = np.where(np.isfinite(own_s), own_s, s)
     gap = pd.to_numeric(df["gap_m"], errors="coerce").to_numpy(float)
     if "law_gap_m" in df.columns:           # the solver's own gap beside its pressure, where it printed one
         own = pd.to_numeric(df["law_gap_m"], errors="coerce").to_numpy(float)

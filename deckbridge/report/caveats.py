@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 from .. import quantities as Q
+from ..methods import PENALTY
 
 REFERENCE_ANALYSIS = {"nlgeom": False, "element": "C3D8I", "units": "SI"}
 SMALL_STRAIN = {"lift_over_radius": Q.SMALL_STRAIN_LIFT, "rotation_rad": 0.01}   # flag above these
@@ -94,8 +95,8 @@ def reference_caveats(model, mesh, system, sol) -> dict:
         "springs_on_lifted_nodes_kn": float(np.abs(ft[on_lifted]).sum()) / 1e3,
         "stop_force_on_nodes_lifted_beyond_t_kn": float(np.abs(sol.force[last, high]).sum()) / 1e3,
         "t_into_springs_kn": -springs_t / 1e3, "t_into_stop_kn": -stop_t / 1e3, "t_applied_kn": float(np.linalg.norm(t_vec)) / 1e3,
-        "k_c_n_per_m": None if sol.method != "penalty" else {"min": float(k.min()), "max": float(k.max())},
-        "alpha": None if sol.method != "penalty" or pen.k_normal is not None else pen.alpha * (sol.k_factor or 1.0),
+        "k_c_n_per_m": None if sol.method != PENALTY else {"min": float(k.min()), "max": float(k.max())},
+        "alpha": None if sol.method != PENALTY or pen.k_normal is not None else pen.alpha * (sol.k_factor or 1.0),
         "n_z": model.mesh.n_z, "element_height_m": model.geometry.height / model.mesh.n_z,
         "max_lift_m": max_lift, "lift_over_radius": max_lift / model.geometry.radius, "rotation_rad": rot,
         "small_strain_exceeded": bool(max_lift / model.geometry.radius > SMALL_STRAIN["lift_over_radius"]

@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from ..quantities import CLAIM_QUANTITIES as QUANTITIES
+from ..methods import LAGRANGE, PENALTY
 from .figures import plain_text
 
 _COLOURS = {"sigma_n_wall_pa": "#1f77b4", "szz_inner_pa": "#d62728", "szz_outer_pa": "#2ca02c",
@@ -31,12 +32,12 @@ def claims_figure(verdict: dict, q: pd.DataFrame, title: str = "") -> Figure:
     fig.subplots_adjust(left=0.07, right=0.99, bottom=0.14, top=0.88, wspace=0.22)
     sn = q[(q["quantity"] == "sigma_n_wall_pa") & (q["theta_deg"] != "peak")]
     cmap = __import__("matplotlib").colormaps["viridis"]
-    pens = sorted({float(k) for k in sn.loc[sn["method"] == "penalty", "k_factor"]})
-    for method, k in [("lagrange", None)] + [("penalty", k) for k in pens]:
+    pens = sorted({float(k) for k in sn.loc[sn["method"] == PENALTY, "k_factor"]})
+    for method, k in [(LAGRANGE, None)] + [(PENALTY, k) for k in pens]:
         s = sn[(sn["method"] == method) & ((sn["k_factor"] == k) if k is not None else True)]
         th = s["theta_deg"].astype(float).to_numpy()
         o = np.argsort(th)
-        if method == "lagrange":
+        if method == LAGRANGE:
             a.plot(th[o], s["value"].to_numpy(float)[o] / 1e6, "k-", lw=2.2, label="Lagrange")
         else:
             c = cmap(pens.index(k) / max(1, len(pens) - 1))

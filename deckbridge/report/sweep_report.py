@@ -14,7 +14,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
+from .. import summary_keys as K
 from .figures import plain_text, png_bytes, sigma_n_figure
+from ..methods import AUGMENTED, LAGRANGE, PENALTY
 from .html import SOURCE_HEAD, deckbridge_version, env, fmt, model_rows, mpa, source_rows
 
 FIGURE_BELOW = 0.1       # no sigma_N figure where every k is within 10 % of the tolerance of Lagrange
@@ -31,7 +33,7 @@ def metrics_figure(summary: dict) -> Figure:
     tol = summary["tol"]
     for i, m in enumerate(summary["meshes"]):
         col = _MESH_COLOURS[i % len(_MESH_COLOURS)]
-        pk = [d for d in m["penalty"] if not d.get("error")]
+        pk = [d for d in m[PENALTY] if not d.get("error")]
         if not pk:
             continue
         k = np.array([d["k_factor"] for d in pk])
@@ -44,13 +46,13 @@ def metrics_figure(summary: dict) -> Figure:
             ax[0, 0].loglog(k, r, ":", color=col, lw=0.9, alpha=0.7)
         ax[0, 1].semilogx(k, [d["liftoff_zone_iou"] for d in pk], "o-", color=col, label=lab)
         ax[1, 0].semilogx(k, [d["peak_compression_pa"] / 1e6 for d in pk], "o-", color=col, label=f"{lab}: penalty")
-        lag = m["lagrange"]
+        lag = m[LAGRANGE]
         if lag.get("peak_compression_pa"):
             last = list(lag["peak_compression_pa"].values())[-1]
             ax[1, 0].axhline(last / 1e6, color=col, ls="--", lw=1.0, label=f"{lab}: Lagrange")
         lf = [np.nan if d["liftoff_load_factor"] is None else d["liftoff_load_factor"] for d in pk]
         ax[1, 1].semilogx(k, lf, "o-", color=col, label=f"{lab}: penalty")
-        au = [d for d in m.get("augmented", []) if not d.get("error")]      # sweep --augmented: flat in k
+        au = [d for d in m.get(AUGMENTED, []) if not d.get("error")]      # sweep --augmented: flat in k
         if au:
             ka = np.array([d["k_factor"] for d in au])
             ax[0, 0].loglog(ka, [max(d["max_rel_diff"], 1e-16) * 100 for d in au], "s--", color=col,
@@ -83,21 +85,21 @@ def metrics_figure(summary: dict) -> Figure:
 
 def _mesh_rows(m: dict) -> list[list[str]]:
     """The per-case rows of one mesh's table (plain text)."""
-    lag = m["lagrange"]
+    lag = m[LAGRANGE]
     rows = []
     if not lag.get("error"):
         peak = list(lag["peak_compression_pa"].values())[-1]
         rows.append(["Lagrange", "–", "–", "–", "–", mpa(peak), mpa(lag.get("node_peak_compression_pa")),
                      mpa(lag.get("max_tension_pa")), fmt(lag.get("liftoff_load_factor")), "–", "reference", "reference"])
-    for d in m["penalty"]:
+    for d in m[PENALTY]:
         if d.get("error"):
             rows.append([f"penalty k = {d['k_factor']:g}"] + ["–"] * 10 + [d["error"]])
             continue
         rows.append([f"penalty k = {d['k_factor']:g}", mpa(d["max_abs_diff_pa"]), f"{d['max_rel_diff'] * 100:.2f}",
                      fmt(d["worst_load_factor"]), f"{d['liftoff_zone_iou']:.3f}", mpa(d["peak_compression_pa"]),
                      mpa(d["node_peak_compression_pa"]), mpa(d["max_tension_pa"]), fmt(d["liftoff_load_factor"]),
-                     _pct(d.get("onset_rel_diff")), "yes" if d["within_tol"] else "no",
-                     "yes" if d.get("reproduces") else "no"])
+                     _pct(d.get(K.ONSET_REL_DIFF)), "yes" if d["within_tol"] else "no",
+                     "yes" if d.get(K.REPRODUCES) else "no"])
     return rows
 
 
@@ -145,14 +147,14 @@ def _claims_view(summary: dict, quantities, pngs) -> list[dict]:
         rows = []
         for q, v1 in c["claim1"].items():
             v2 = c["claim2"][q]
-            mx = max((d["max_in_lifted_pa"] for d in v1["penalty"] if d["max_in_lifted_pa"] is not None), default=None)
+            mx = max((d["max_in_lifted_pa"] for d in v1[PENALTY] if d["max_in_lifted_pa"] is not None), default=None)
             rows.append([names[q], "holds" if v1["holds"] else "no", mpa(mx), mpa(v1["lagrange_max_pa"]),
                          ", ".join(f"{k:g}" for k in v1["holds_for_k"]) or "–",
                          v2["direction"], ", ".join(mpa(x) for x in v2["peak_abs_pa"]), mpa(v2["lagrange_peak_abs_pa"]),
                          ", ".join(f"{k:g}" for k in v2["reproduces_lagrange_at_k"]) or "none"])
         on = c["onsets"]
-        onsets = [["Lagrange", fmt(on["lagrange"]["first_node"]), fmt(on["lagrange"]["whole_section"])]] + [
-            [f"penalty k = {p['k_factor']:g}", fmt(p["first_node"]), fmt(p["whole_section"])] for p in on["penalty"]]
+        onsets = [["Lagrange", fmt(on[LAGRANGE]["first_node"]), fmt(on[LAGRANGE]["whole_section"])]] + [
+            [f"penalty k = {p['k_factor']:g}", fmt(p["first_node"]), fmt(p["whole_section"])] for p in on[PENALTY]]
         out.append({"title": f"{c['grid_label'] or 'model as given'} (mesh {c['mesh']}), λ = {c['load_factor']:.4g}",
                     "rows": rows, "onsets": onsets, "png": next(pngs), "error": None,
                     "note": c["lagrange_depends_on_alpha_note"], "follows": c["k_tangent_follows_k"]})

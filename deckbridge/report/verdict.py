@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import math
 
+from .. import summary_keys as K
 from ..model import Model
+from ..methods import LAGRANGE
 
 
 def _pct(v) -> str:
@@ -21,7 +23,7 @@ def verdict_view(verdict: dict, measured: list[dict], model: Model) -> dict:
     if verdict.get("error"):
         return {"head": f"No verdict on the penalty: {verdict['error']}", "advice": "", "command": "", "definition": "",
                 "head_row": [], "rows": [], "measured": [], "measured_head": []}
-    mp, rec, lag = verdict["model_penalty"], verdict["recommended"], verdict["lagrange"]
+    mp, rec, lag = verdict["model_penalty"], verdict["recommended"], verdict[LAGRANGE]
     what = ("the model's penalty (" + ("α = " + format(mp["alpha"], "g") if mp["alpha"] is not None
                                        else "k_normal") + ", k-factor 1: the k_c per node of the reference penalty, "
             "the Nastran PGAP KA and the Abaqus / CalculiX penalty decks)")
@@ -41,12 +43,12 @@ def verdict_view(verdict: dict, measured: list[dict], model: Model) -> dict:
             advice = f"Keep the deck's penalty (units {model.units}): {verdict['recommended_text']}."
     rows = [[f"{r['k_factor']:g}", "–" if r.get("alpha") is None else f"{r['alpha']:.4g}",
              "–" if "ka_min" not in r else f"{r['ka_min']:.4g} … {r['ka_max']:.4g}",
-             _pct(r.get("max_rel_diff")), _pct(r.get("onset_rel_diff")), _pct(r.get("penetration_over_t")),
-             "yes" if r["reproduces"] else ("error: " + r["error"] if r.get("error") else "no")]
+             _pct(r.get("max_rel_diff")), _pct(r.get(K.ONSET_REL_DIFF)), _pct(r.get("penetration_over_t")),
+             "yes" if r[K.REPRODUCES] else ("error: " + r["error"] if r.get("error") else "no")]
             for r in verdict["evaluated"]]
     unit = mp["unit"]
     meas = [[m["source"], m["against"], _pct(m["max_rel_diff"]), f"{_lam(m['liftoff_load_factor'])} / "
-             f"{_lam(m['lagrange_liftoff_load_factor'])}", _pct(m["onset_rel_diff"]), _pct(m["penetration_over_t"])]
+             f"{_lam(m['lagrange_liftoff_load_factor'])}", _pct(m[K.ONSET_REL_DIFF]), _pct(m["penetration_over_t"])]
             for m in measured]
     return {"head": head, "advice": advice, "command": verdict["command"], "definition": verdict["definition"],
             "head_row": ["k-factor", "α", f"KA per node [{unit}]", "worst |ΔσN| / peak", "onset difference",

@@ -21,6 +21,7 @@ import pandas as pd
 
 from .. import summary_keys as K
 from ..azimuth import snap_deg
+from ..methods import LAGRANGE, PENALTY
 from ..quantities import CLAIM_QUANTITIES, DEFINITIONS, sigma_n_wall, table_rows
 
 QUANTITIES = CLAIM_QUANTITIES
@@ -64,8 +65,8 @@ def _direction(v: list[float]) -> str:
 def variant_claims(variant, cases, tables: dict, walls: dict, records: dict, lam: float, tol: float) -> tuple[dict, list]:
     """(verdict dict, tidy rows) of one variant at load factor ``lam``."""
     grid = variant.grid_label
-    lag = next(c for c in cases if c.method == "lagrange")
-    pens = sorted((c for c in cases if c.method == "penalty" and not records[c.case_id].get("error")),
+    lag = next(c for c in cases if c.method == LAGRANGE)
+    pens = sorted((c for c in cases if c.method == PENALTY and not records[c.case_id].get("error")),
                   key=lambda c: c.k_factor)
     follows = bool((records[lag.case_id].get("summary") or {}).get(K.K_TANGENT_FOLLOWS_K,
                                                                   variant.model.contact.penalty.k_tangent_follows))
@@ -99,9 +100,9 @@ def variant_claims(variant, cases, tables: dict, walls: dict, records: dict, lam
     lf0, lp, _ = prof[lag.case_id]
     out["load_factor"] = lf0
     rec = lambda c: records[c.case_id]["summary"]  # noqa: E731
-    out["onsets"] = {"lagrange": {"first_node": rec(lag)["liftoff_load_factor"],
+    out["onsets"] = {LAGRANGE: {"first_node": rec(lag)["liftoff_load_factor"],
                                   "whole_section": rec(lag).get(K.SECTION_LIFTOFF_LOAD_FACTOR)},
-                     "penalty": [{"k_factor": c.k_factor, "first_node": rec(c)["liftoff_load_factor"],
+                     PENALTY: [{"k_factor": c.k_factor, "first_node": rec(c)["liftoff_load_factor"],
                                   "whole_section": rec(c).get(K.SECTION_LIFTOFF_LOAD_FACTOR)} for c in pens]}
     c1, c2 = {}, {}
     for q in QUANTITIES:
@@ -121,7 +122,7 @@ def variant_claims(variant, cases, tables: dict, walls: dict, records: dict, lam
             peaks.append(float(np.max(np.abs(ser.to_numpy()))))
         ks = [c.k_factor for c in pens]
         c1[q] = {"holds": any(d["holds"] for d in per_k), "holds_for_k": [d["k_factor"] for d in per_k if d["holds"]],
-                 "lagrange_max_pa": lag_max, "lagrange_le_zero_everywhere": bool(lag_max <= zero), "penalty": per_k}
+                 "lagrange_max_pa": lag_max, "lagrange_le_zero_everywhere": bool(lag_max <= zero), PENALTY: per_k}
         within = [k for k, pk in zip(ks, peaks) if abs(pk - lag_peak) <= tol * lag_peak]
         direction = _direction(peaks)
         c2[q] = {"holds": direction == "falls", "direction": direction, "k_factors": ks, "peak_abs_pa": peaks,

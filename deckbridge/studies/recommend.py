@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import summary_keys as K
 from ..units import scale
 
 
@@ -86,11 +87,11 @@ def variant_recommendation(variant, k_c: np.ndarray, per_k: list[dict], lagrange
     does) in deck terms (:func:`deck_terms`; ``k_c`` the variant's node stiffness at k-factor 1 [N/m]), and
     one line saying so (or what the stiffest k-factor still misses)."""
     for d in per_k:
-        d["onset_rel_diff"] = (None if d.get("error") else
+        d[K.ONSET_REL_DIFF] = (None if d.get("error") else
                                onset_gap(d.get("liftoff_load_factor"), lagrange.get("liftoff_load_factor")))
-        d["reproduces"] = bool(not lagrange.get("error") and reproduces(d, lagrange, tol, onset_tol))
+        d[K.REPRODUCES] = bool(not lagrange.get("error") and reproduces(d, lagrange, tol, onset_tol))
     name = variant_name(variant)
-    ok = [d["k_factor"] for d in per_k if d["reproduces"]]
+    ok = [d["k_factor"] for d in per_k if d[K.REPRODUCES]]
     if ok:
         terms = deck_terms(variant.model, k_c, min(ok))
         return {"name": name, **terms, "text": f"{name}: {terms_text(terms)}"}
@@ -99,7 +100,7 @@ def variant_recommendation(variant, k_c: np.ndarray, per_k: list[dict], lagrange
         why = "no Lagrange reference" if lagrange.get("error") else "every penalty case failed"
         return {"name": name, "k_factor": None, "text": f"{name}: none ({why})"}
     top = max(rows, key=lambda d: d["k_factor"])
-    og = top["onset_rel_diff"]
+    og = top[K.ONSET_REL_DIFF]
     return {"name": name, "k_factor": None,
             "text": (f"{name}: none up to k-factor {top['k_factor']:g} (there worst |dsigma_N| = "
                      f"{100 * top['max_rel_diff']:.3g} % of the Lagrange peak, onset "
@@ -111,7 +112,7 @@ def overall_recommendation(k_factors, variants, k_cs: list[np.ndarray], recs: li
     """The smallest k-factor that reproduces Lagrange at every grid point (None when none does), its
     alpha(s) and the KA range over the grid points in the deck's units, and a note naming each grid
     point's own answer."""
-    every = [k for k in k_factors if all(any(d["k_factor"] == k and d.get("reproduces") for d in pk) for pk in per_ks)]
+    every = [k for k in k_factors if all(any(d["k_factor"] == k and d.get(K.REPRODUCES) for d in pk) for pk in per_ks)]
     k = min(every) if every else None
     many = len(recs) > 1
     head = (f"reproduces Lagrange (max |dsigma_N| <= {tol:g} x |Lagrange peak compression| at every compared load "

@@ -48,6 +48,7 @@ import pandas as pd
 from tqdm import tqdm
 
 from ..errors import DeckbridgeError
+from ..methods import AUGMENTED, LAGRANGE, PENALTY
 from ..model import Model
 from ..outdir import prepare, staged
 from .cases import OPEN_STIFFNESS, Case, mesh_variants, sweep_cases
@@ -319,8 +320,8 @@ def make_summary(model: Model, variants, results: list[VariantResult], k_factors
         meshes.append({
             "mesh": v.label, "name": rec["name"], "grid": dict(v.grid), "n_theta": m.n_theta, "n_z": m.n_z, "n_r": m.n_r, "overrides": dict(v.overrides),
             "compared_load_factors": [] if r.comparison is None else [p.load_factor for p in r.comparison.points],
-            "lagrange": r.lagrange, "penalty": r.per_k, "recommended_k_factor": rec["k_factor"], "recommended": rec,
-            **({"augmented": r.augmented} if r.augmented else {}),
+            LAGRANGE: r.lagrange, PENALTY: r.per_k, "recommended_k_factor": rec["k_factor"], "recommended": rec,
+            **({AUGMENTED: r.augmented} if r.augmented else {}),
             "max_rel_diff_never_grows_with_k": monotone([d["max_rel_diff"] for d in r.per_k if not d.get("error")]),
             "errors": r.errors,
         })

@@ -16,6 +16,8 @@ import time
 import numpy as np
 import pandas as pd
 
+import reference_solver as rs
+
 from .. import summary_keys as K
 from ..errors import DeckbridgeError
 from ..methods import PENALTY
@@ -57,8 +59,21 @@ def condense_variant(model_dict: dict, light: bool = True) -> Condensed:
     model = Model.from_dict(model_dict)
     mesh, system = condense_model(model)
     if light:
-        system = dataclasses.replace(system, schur=None)
+        system = without_factor(system)
     return Condensed(mesh, system, time.perf_counter() - t0, where(), model_dict)
+
+
+def without_factor(system):
+    """``system`` without its sparse factor (no field recovery); a friction system keeps it in its
+    frictionless ``base`` condensation."""
+    if isinstance(system, rs.FrictionSystem):
+        return dataclasses.replace(system, base=dataclasses.replace(system.base, schur=None), views={}, cache={})
+    return dataclasses.replace(system, schur=None)
+
+
+def has_factor(system) -> bool:
+    """Whether ``system`` can recover fields (its sparse factor is there)."""
+    return getattr(system, "base", system).schur is not None
 
 
 def _bind(cond: Condensed, model: Model):
@@ -91,8 +106,9 @@ def _system_for(system, method: str, k_factor: float, open_stiffness: str):
 
 
 def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float | None,
-               open_stiffness: str = "scaled") -> tuple[pd.DataFrame, dict, dict]:
+               open_stiffness: str = "scaled", wall: bool = True) -> tuple[pd.DataFrame, dict, dict]:
     """Solve one case on a condensed variant: (tidy contact table, solver summary, provenance).
+    ``wall``: recover the base-wall table (provenance 'wall') when the factor is there; False: no recovery.
 
     A Lagrange case is the reference of the penalty cases, their limit k -> infinity: with k_t following
     k_n its circumferential springs are rigid (:func:`deckbridge.tangent_springs.follow_springs`, ``limit``),
@@ -105,7 +121,7 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
     t0 = time.perf_counter()
     model = Model.from_dict(model_dict)
     kf = 1.0 if k_factor is None else float(k_factor)
-    wall = None
+    wall_table = None
     try:
         mesh, system = _bind(cond, model)
         system = follow_springs(_system_for(system, method, kf, open_stiffness), method, kf, limit=True)
@@ -113,8 +129,8 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
             df, summary, sol = solve_system(model, mesh, system, method, kf, recover=False)
             lam_s, th_s = reference_section_onset(system, mesh, sol)
             summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = lam_s, th_s
-            if system.schur is not None:
-                wall = reference_wall(system, mesh, sol)
+            if wall and has_factor(system):
+                wall_table = reference_wall(system, mesh, sol)
     except DeckbridgeError:
         raise
     except Exception as exc:        # anything else crosses the process boundary as one line
@@ -125,7 +141,7 @@ def solve_case(cond: Condensed, model_dict: dict, method: str, k_factor: float |
         summary["open_stiffness"] = open_stiffness
         summary["k_open_ratio_used"] = float(system.problem.k_open_ratio)
     prov = {"wall_time_s": time.perf_counter() - t0, "condense_s": cond.condense_s,
-            "condensed_on": cond.where, "solved_on": where(), "wall": wall}
+            "condensed_on": cond.where, "solved_on": where(), "wall": wall_table}
     return df, summary, prov
 
 

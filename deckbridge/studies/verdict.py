@@ -27,8 +27,10 @@ import math
 import numpy as np
 import pandas as pd
 
+from .. import summary_keys as K
 from ..compare.series import series_of
 from ..errors import DeckbridgeError
+from ..methods import LAGRANGE, PENALTY
 from ..model import Model
 from ..solve import PENALTY_RATIO, penalty_ratio
 from .cases import Case, mesh_variants
@@ -72,11 +74,11 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
     else:
         cond = Condensed(condensed[0], condensed[1], 0.0, "this process", md)
     k_c = node_stiffness(cond.mesh)
-    lag = Case(variant, "lagrange")
+    lag = Case(variant, LAGRANGE)
     tables, records, series = {}, {}, {}
 
     def solve(case: Case):
-        df, summary, _ = solve_case(cond, md, case.method, case.k_factor)
+        df, summary, _ = solve_case(cond, md, case.method, case.k_factor, wall=False)   # no field recovery
         tables[case.case_id], records[case.case_id] = df, {"summary": summary}
         series[case.case_id] = series_of(df, case.label)
 
@@ -85,22 +87,22 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
     rows: dict[float, dict] = {}
 
     def judge(kf: float) -> bool:
-        case = Case(variant, "penalty", float(kf))
+        case = Case(variant, PENALTY, float(kf))
         try:
             solve(case)
         except DeckbridgeError as exc:
-            rows[kf] = {"k_factor": kf, "error": str(exc), "reproduces": False}
+            rows[kf] = {"k_factor": kf, "error": str(exc), K.REPRODUCES: False}
             return False
         vr = variant_metrics(variant, [lag, case], tables, records, tol, series=series)
         pk = vr.per_k[0]
         pen = penetration(tables[case.case_id])
         rows[kf] = {"k_factor": kf, "max_rel_diff": pk["max_rel_diff"], "worst_load_factor": pk["worst_load_factor"],
                     "stress_within_tol": pk["within_tol"], "liftoff_load_factor": pk["liftoff_load_factor"],
-                    "onset_rel_diff": onset_gap(pk["liftoff_load_factor"], vr.lagrange["liftoff_load_factor"]),
+                    K.ONSET_REL_DIFF: onset_gap(pk["liftoff_load_factor"], vr.lagrange["liftoff_load_factor"]),
                     "penetration_m": pen, "penetration_over_t": pen / model.geometry.thickness,
-                    "reproduces": reproduces(pk, vr.lagrange, tol, onset_tol),
+                    K.REPRODUCES: reproduces(pk, vr.lagrange, tol, onset_tol),
                     **deck_terms(model, k_c, kf)}
-        return rows[kf]["reproduces"]
+        return rows[kf][K.REPRODUCES]
 
     found = None
     for kf in _ladder(model):
@@ -111,7 +113,7 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
         for kf in (found / 5.0, found / 2.0):
             if kf >= 1.0 and kf not in rows:
                 judge(kf)
-    passing = sorted(k for k, r in rows.items() if r["reproduces"])
+    passing = sorted(k for k, r in rows.items() if r[K.REPRODUCES])
     best = passing[0] if passing else None
     ks = sorted(rows)
     return {
@@ -120,9 +122,9 @@ def penalty_verdict(model: Model, tol: float = DEFAULT_TOL, onset_tol: float | N
                        f"|Lagrange peak compression| at every compared load factor, and the first-node liftoff "
                        f"onset within {onset_tol:g} x the Lagrange onset; Lagrange = the limit k -> infinity "
                        "(tangential springs rigid when k_t follows k_n), as in deckbridge sweep"),
-        "lagrange": {"liftoff_load_factor": lag_summary["liftoff_load_factor"],
+        LAGRANGE: {"liftoff_load_factor": lag_summary["liftoff_load_factor"],
                      "liftoff_theta_deg": lag_summary["liftoff_theta_deg"]},
-        "model_penalty": rows[1.0] | {"converged": rows[1.0]["reproduces"]},
+        "model_penalty": rows[1.0] | {"converged": rows[1.0][K.REPRODUCES]},
         "evaluated": [rows[k] for k in ks],
         "recommended": None if best is None else rows[best],
         "recommended_text": None if best is None else terms_text(rows[best]),
@@ -137,12 +139,12 @@ def measured_rows(result, model: Model) -> list[dict]:
     largest penetration / t (None where the source's table has no gap)."""
     labels = [s.label for s in result.series]
     methods = {s.label: s.method for s in result.series}
-    lag = next((lab for lab in labels if methods[lab] == "lagrange"), None)
+    lag = next((lab for lab in labels if methods[lab] == LAGRANGE), None)
     out = []
     if lag is None:
         return out
     for lab in labels:
-        if methods[lab] != "penalty":
+        if methods[lab] != PENALTY:
             continue
         worst = None
         for pt in result.points:
@@ -159,7 +161,7 @@ def measured_rows(result, model: Model) -> list[dict]:
         out.append({"source": lab, "against": lag, "max_rel_diff": None if worst is None else worst[0],
                     "worst_load_factor": None if worst is None else worst[1],
                     "liftoff_load_factor": lo.get(lab), "lagrange_liftoff_load_factor": lo.get(lag),
-                    "onset_rel_diff": None if gap is None or math.isinf(gap) else gap,
+                    K.ONSET_REL_DIFF: None if gap is None or math.isinf(gap) else gap,
                     "penetration_over_t": None if pen is None else pen / model.geometry.thickness})
     return out
 
@@ -171,7 +173,7 @@ def report_verdict(result, model: Model | None, extra: dict | None = None) -> tu
     ``extra['condensed']`` (mesh, condensed system) of ``model``, reused). A verdict that cannot be made is
     ``{"error": why}``: the report still stands and says why."""
     extra = extra or {}
-    if model is None or not extra.get("verdict", True) or not any(s.method == "penalty" for s in result.series):
+    if model is None or not extra.get("verdict", True) or not any(s.method == PENALTY for s in result.series):
         return None
     try:
         verdict = penalty_verdict(model, extra.get("tol", DEFAULT_TOL), model_path=extra.get("model_path", "MODEL"),

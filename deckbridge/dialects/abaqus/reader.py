@@ -19,7 +19,9 @@ flipped (sigma_n = -CPRESS); COPEN > 0 is open. Node labels (``INSTANCE.label`` 
 through the neutral model (the embedded default when none is given). Surface: 'stop' when the
 pair's surface names mention STOP, 'table' when they mention TABLE, else from the model's slave sets.
 Units: CPRESS and COPEN are divided back to SI by the units of the deck beside the ``.dat`` (its
-``** deckbridge-units:`` line), else the model's (``units: mm`` decks are in N, mm, MPa).
+``** deckbridge-units:`` line), else the model's (``units: mm`` decks are in N, mm, MPa). Method: 'augmented'
+when the deck beside is deckbridge's augmented-Lagrange deck (its header line :data:`AUGMENTED_HEADER`), else
+'lagrange'.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ import pandas as pd
 from . import RECORD
 from ...errors import DeckbridgeError
 from ...errors import read_text
+from ...methods import AUGMENTED, LAGRANGE
 from ...readers._files import inp_deck_units
 from ...results import with_forces
 from ...units import scale
@@ -52,6 +55,7 @@ _TEXT_VARS = {"CSTATUS"}
 _OPEN_WORDS = {"OP", "OPEN"}
 _CLOSED_WORDS = {"CL", "CLOSED", "ST", "STICK", "SL", "SLIP", "SLIPPING", "STICKING"}
 _DETECT_BYTES = 64 << 20
+AUGMENTED_HEADER = "** deckbridge Abaqus/Standard deck: augmented Lagrange contact"
 
 
 def detect(path: Path) -> bool:
@@ -76,6 +80,18 @@ def detect(path: Path) -> bool:
     except OSError:
         return False
     return False
+
+
+def deck_method(path: Path) -> str:
+    """'augmented' when the ``.inp`` beside ``path`` starts (first 40 lines) with :data:`AUGMENTED_HEADER`, else
+    'lagrange' (deckbridge's Lagrange deck, or no deck)."""
+    inp = Path(path).with_suffix(".inp")
+    if inp.is_file():
+        with open(inp, errors="replace") as fh:
+            for _, line in zip(range(40), fh):
+                if line.startswith(AUGMENTED_HEADER):
+                    return AUGMENTED
+    return LAGRANGE
 
 
 def _float(tok: str) -> float:
@@ -179,7 +195,7 @@ def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
     lam = np.where(raw["step"].to_numpy() == 1, 0.0, model.steps.lambda_max * raw["fraction"].to_numpy(float))
     surface = _surface(raw, located)
     return with_forces(pd.DataFrame({
-        "source": RECORD.source, "method": "lagrange",
+        "source": RECORD.source, "method": deck_method(path),
         "step": raw["step"].to_numpy(), "increment": raw["increment"].to_numpy(),
         "load_factor": lam, "node": raw["node"].to_numpy(),
         "surface": surface,

@@ -11,11 +11,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...mesh import SkirtMesh
+from ...methods import PENALTY
 from ...model import Model
 from ...numbering.inp import Layout, layout
 from ...numbering.skirt import mesh_node_ids
 
-CCX_MASTERS = {"penalty": (), "mortar": ("table",), "f2f": (), "penalty_n2f": ("table", "stop")}   # master rings
+CCX_MASTERS = {PENALTY: (), "mortar": ("table",), "f2f": (), "penalty_n2f": ("table", "stop")}   # master rings
 
 
 def ccx_penalty_is_n2f(model: Model) -> bool:
@@ -27,7 +28,7 @@ def ccx_penalty_is_n2f(model: Model) -> bool:
 def ccx_layout(model: Model, mesh: SkirtMesh, method: str) -> Layout:
     """Numbering of the CalculiX ``method`` deck ('penalty': GAPUNI gaps only, or table and stop rings for
     node-to-surface contact; 'mortar': table ring)."""
-    key = "penalty_n2f" if method == "penalty" and ccx_penalty_is_n2f(model) else method
+    key = "penalty_n2f" if method == PENALTY and ccx_penalty_is_n2f(model) else method
     return layout(model, mesh, masters=CCX_MASTERS[key])
 
 
@@ -105,10 +106,10 @@ def ccx_gaps(model: Model, mesh: SkirtMesh, method: str, lay: Layout | None = No
     Grounded nodes follow the master rings; gap elements follow the SPRING1 restraints.
     """
     lay = lay or ccx_layout(model, mesh, method)
-    if method == "penalty" and ccx_penalty_is_n2f(model):
+    if method == PENALTY and ccx_penalty_is_n2f(model):
         chosen = ()
     else:
-        chosen = (mesh.table, mesh.stop) if method == "penalty" else (mesh.stop,)
+        chosen = (mesh.table, mesh.stop) if method == PENALTY else (mesh.stop,)
     sets = tuple(ss for ss in chosen if ss is not None)
     set_index = np.concatenate([np.full(ss.nodes.size, k) for k, ss in enumerate(sets)] or [np.zeros(0, int)])
     row = np.concatenate([np.arange(ss.nodes.size) for ss in sets] or [np.zeros(0, int)])

@@ -12,6 +12,7 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
 - node-to-surface penalty (``analysis.nlgeom: false`` penalty deck): ``.dat`` ``*CONTACT PRINT`` CSTR
   (pressure p = K x penetration per contact element, in contact-pair order, lifted nodes left out):
   sigma_n = -p A_ccx / A (force k_c x penetration over the model's area; 0 for a node without a row);
+- 8-/6-node faces (C3D20/C3D20R/C3D10/C3D15): table rows as :mod:`.face_rows` (mortar -M^-1 RF, f2f -CPRESS);
 - gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
   ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
   lifted one can carry pressure with a small positive nodal gap). status: closed where
@@ -36,7 +37,9 @@ import pandas as pd
 
 from . import RECORD
 from ...errors import DeckbridgeError
+from ...methods import PENALTY
 from ...mesh import build_mesh
+from .face_rows import TableProjection, column_neighbours, f2f_table_sigma, face_neighbours, law_gaps as face_law_gaps
 from .numbering import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...numbering.skirt import mesh_node_index
 from ...units import scale
@@ -81,13 +84,13 @@ def _jobs_in(folder: Path) -> list[Path]:
 
 # --- assembly -----------------------------------------------------------------------------------------
 def _method_of(stem: Path, job: dict) -> str:
-    if job.get("method") in ("penalty", "mortar", "f2f"):
+    if job.get("method") in (PENALTY, "mortar", "f2f"):
         return job["method"]
     name = stem.name.lower()
     if "lagrange" in name or "mortar" in name:
         return "mortar"
     if "penalty" in name or "gap" in name:
-        return "penalty"
+        return PENALTY
     raise DeckbridgeError(f"{str(stem)!r}: cannot tell penalty from mortar (no deckbridge deck beside it, "
                           "job name without 'penalty' or 'lagrange')")
 
@@ -115,8 +118,6 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
             raise DeckbridgeError(f"{str(inp)!r}: deck of a mesh with {job['n_nodes']} nodes, model "
                                   f"{model.name!r} has {n_nodes}: results of another model?")
         lam = model.steps.lambda_max
-        if mesh.quadratic_faces:   # RF / A is no pressure on 8-/6-node faces (a corner carries -1/12 of it)
-            table_from = "cpress"
     elif meta_slaves is not None:
         sl = meta_slaves
         lam = float(job.get("lambda_max", 1.0))
@@ -159,30 +160,40 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
         else:
             disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
 
-    n2f = method == "penalty" and ("n2f_order" in job or (not gaps and model is not None
+    n2f = method == PENALTY and ("n2f_order" in job or (not gaps and model is not None
                                                           and ccx_penalty_is_n2f(model)))
     if n2f:
         sigmas, origins, law_gaps = _n2f_sigma(stem, sl, job, model, contact, contact_gap, mesh)
         return _frames(sl, method, lam, sigmas, disp, stem, origins, law_gaps)
     table = sl.surface == "table"
-    # forces from RF of another node: the grounded gap node, or (f2f) the matching master node under the slave
-    gap_rows = np.ones(sl.node.size, bool) if method in ("penalty", "f2f") else ~table
-    mortar_rows = ~gap_rows
+    quad = bool(mesh.quadratic_faces) if model is not None else bool(job.get("quadratic"))
+    # forces from RF of another node: the grounded gap node, or (f2f) the matching master node under the slave;
+    # a face-to-face deck on quadratic faces has no master node under its slaves: its table rows are -CPRESS
+    f2f_cpress = method == "f2f" and quad
+    gap_rows = (~table if f2f_cpress else np.ones(sl.node.size, bool)) if method in (PENALTY, "f2f") else ~table
+    mortar_rows = ~gap_rows & ~(table & f2f_cpress)
     if mortar_rows.any():
         has_rf = any(int(sl.node[np.flatnonzero(mortar_rows)[0]]) in f for f in forces.values())
-        if table_from == "cpress" or not has_rf:
+        if table_from == "cpress" or not has_rf or (quad and model is None):    # no faces: ccx's own pressure
             if not cpress:
                 raise DeckbridgeError(f"{str(frd if frd.is_file() else stem)!r}: no CONTACT block (CPRESS) of a "
                                       "mortar job in the .frd, and no RF of the slave nodes in the .dat")
             table_from = "cpress"
+    if f2f_cpress and not cpress:
+        raise DeckbridgeError(f"{str(frd if frd.is_file() else stem)!r}: no CONTACT block (CPRESS) of a face-to-face "
+                              "job on quadratic faces in the .frd")
+    project = (TableProjection(mesh, sl.node, mortar_rows) if quad and model is not None and mortar_rows.any()
+               and table_from == "rf" else None)     # quadratic mortar: -M^-1 r (face_rows.py)
     if gap_rows.any() and not forces:
         raise DeckbridgeError(f"{str(dat if dat.is_file() else stem)!r}: no gap-element forces (*NODE PRINT RF "
                               "of the grounded nodes) in the .dat")
     ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model, mesh)
     force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
 
-    sigmas, origins = {}, {}
-    for step, t in sorted(set(forces) | (set(cpress) if table_from == "cpress" else set())):
+    sigmas, origins, own = {}, {}, {}
+    near = (None if not quad else face_neighbours(mesh, sl.node, table) if model is not None
+            else column_neighbours(sl.theta, table))
+    for step, t in sorted(set(forces) | (set(cpress) if table_from == "cpress" or f2f_cpress else set())):
         f_t = forces.get((step, t), {})
         sigma = np.full(sl.node.size, np.nan)
         origin = np.full(sl.node.size, None, object)
@@ -195,6 +206,16 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
                                       f"slave node {int(sl.node[i])}) at time {t:g}: results of another model?")
             sigma[i] = -float(rf @ sl.normal[i]) / sl.area[i]
             origin[i] = rf_at.get(int(force_of[i]))
+        if project is not None:         # the rows' normal forces r = -sigma A, projected to a pressure
+            sigma[project.rows] = project.sigma(-sigma[project.rows] * sl.area[project.rows])
+            cp = cpress.get((step, t))          # the law's own pressure, judged by the contact-law check
+            own[(step, t)] = np.full(sl.node.size, np.nan)
+            if cp is not None:
+                own[(step, t)][project.rows] = [-cp.get(int(n), 0.0) for n in sl.node[project.rows]]
+        if f2f_cpress:
+            rows = np.flatnonzero(table)
+            sigma[rows] = f2f_table_sigma(cpress.get((step, t), {}), sl.node[rows])
+            origin[rows] = [where.get(("cpress", (step, t)), {}).get(int(n), _at(frd, 0)) for n in sl.node[rows]]
         if mortar_rows.any() and table_from == "cpress":
             cp = cpress.get((step, t), {})
             for i in np.flatnonzero(mortar_rows):
@@ -204,7 +225,7 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
                 sigma[i] = -cp[int(sl.node[i])]
                 origin[i] = cp_at.get(int(sl.node[i]))
         sigmas[(step, t)], origins[(step, t)] = sigma, origin
-    return _frames(sl, method, lam, sigmas, disp, stem, origins)
+    return _frames(sl, method, lam, sigmas, disp, stem, origins, law_sigmas=own or None, near=near)
 
 
 def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict, contact_gap: dict | None = None, mesh=None):
@@ -262,9 +283,12 @@ def _at(path: Path, line: int) -> str:
 
 
 def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path,
-            origins: dict | None = None, law_gaps: dict | None = None) -> pd.DataFrame:
+            origins: dict | None = None, law_gaps: dict | None = None, law_sigmas: dict | None = None,
+            near: list | None = None) -> pd.DataFrame:
     """The tidy table from sigma_n per (step, time) and the slave displacements; ``origins``: per
-    (step, time) the file and line of each row's value (column ``origin``, dropped after the checks)."""
+    (step, time) the file and line of each row's value (column ``origin``, dropped after the checks);
+    ``law_gaps`` / ``law_sigmas``: the solver's own gap / pressure per row for the contact-law check; ``near``:
+    per row the rows of its table faces (quadratic faces: law_gap_m of pressed rows, face_rows.law_gaps)."""
     frames, counters = [], {}
     for step, t in sorted(sigmas):
         sigma, d_t = sigmas[(step, t)], disp.get((step, t), {})
@@ -274,13 +298,16 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
             if u is not None:
                 gap[i] = sl.clearance[i] + float(u[:3] @ sl.normal[i])
         counters[step] = counters.get(step, 0) + 1
+        law_gap = law_gaps[(step, t)] if law_gaps else (face_law_gaps(sigma, gap, near) if near else None)
+        law_sigma = (law_sigmas or {}).get((step, t))
         frames.append(with_forces(pd.DataFrame({
             "source": SOURCE, "method": method, "step": step, "increment": counters[step],
             "load_factor": 0.0 if step == 1 else lam * (t - (step - 1)), "node": sl.node,
             "surface": sl.surface, "theta_deg": sl.theta, "z": sl.z, "r": sl.r, "sigma_n_pa": sigma,
             "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open"),
             **({"origin": origins[(step, t)]} if origins else {}),
-            **({"law_gap_m": law_gaps[(step, t)]} if law_gaps else {})}), sl.area))
+            **({"law_gap_m": law_gap} if law_gap is not None else {}),
+            **({"law_sigma_pa": law_sigma} if law_sigma is not None else {})}), sl.area))
     if not frames:
         raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
     return pd.concat(frames, ignore_index=True)

@@ -52,9 +52,11 @@ from ...numbering.inp import FACE_TOP, Layout
 from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...units import scale
 from ...numbering.skirt import elem_ids, mesh_node_ids, mesh_node_index
-from ...deck_elements import face_label_lines
+from ...deck_elements import base_faces, corner_spring_k, face_label_lines, quadratic_face_slopes
+from .quadratic_master import f2f_ring
 from ...render._env import deck_paths, render
-from ...render.inp_cards import clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context
+from ...render.inp_cards import (clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context,
+                                 spring_groups)
 
 MORTAR_HARD = True           # mortar table pair without *SURFACE BEHAVIOR: hard (Lagrange) contact
 MORTAR_FACTOR = 1.0e4        # K_m = MORTAR_FACTOR * E / h1 [Pa/m]: stop gaps, stick slope, LINEAR variant
@@ -91,6 +93,7 @@ def _common(model: Model, lay: Layout, method: str) -> dict:
         "tipping": _tipping_note(model),
         "friction_substeps": 0,
         "roundoff_note": "",
+        "corner_springs": False,
     }
 
 
@@ -259,6 +262,12 @@ def mortar_context(model: Model, mesh: SkirtMesh) -> dict:
         n = model.steps.increments * MORTAR_FRICTION_SUBSTEPS
         ctx.update(step2_inc=reals([1.0 / n, 1.0, 1.0e-5 / n, 1.0 / n]),
                    inc_limit=max(ctx["inc_limit"], 10 * n), friction_substeps=MORTAR_FRICTION_SUBSTEPS)
+    if mesh.quadratic_faces and ctx["springs"]:     # no SPRING1 on mid-side slave nodes (deck_elements.py)
+        k = corner_spring_k(mesh)
+        keep = k > 0
+        groups = spring_groups(k[keep], mesh_node_ids(mesh, mesh.table.nodes)[keep], lay.next_elem)
+        ctx.update(springs=[{**g, "elems": element_lines(g["elem_ids"], g["node_ids"][:, None]),
+                             "k_str": real(g["k"] * u.stiffness)} for g in groups], corner_springs=True)
     ctx.update(_gaps(model, mesh, ccx_gaps(model, mesh, "mortar", lay), lambda ss: km * ss.area))
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz,
                           [("NMASTER", tm.node_ids, tm.nodes), ctx["ground"]], u.length, mesh.node_ids))
@@ -307,24 +316,35 @@ def f2f_context(model: Model, mesh: SkirtMesh) -> dict:
     u = scale(model.units)
     t = model.geometry.thickness
     mu = model.contact.friction if getattr(model.contact, "tangential", "springs") == "friction" else 0.0
-    slope = f2f_face_slopes(mesh)
-    stick = f2f_face_slopes(mesh, mesh.k_tangent) if mu > 0 else np.zeros_like(slope)
+    quad = mesh.quadratic_faces          # issue 23: 8-/6-node faces on a matching C3D20 / C3D15 master
+    faces = base_faces(mesh) if quad else []
+    if quad:
+        slope = quadratic_face_slopes(mesh, faces, mesh.table.k)
+        stick = quadratic_face_slopes(mesh, faces, mesh.k_tangent) if mu > 0 else np.zeros_like(slope)
+        labels = np.array([f"{elem_ids(mesh, np.array([e]))[0]}, S{k}" for e, k, _ in faces], dtype=object)
+    else:
+        slope = f2f_face_slopes(mesh)
+        stick = f2f_face_slopes(mesh, mesh.k_tangent) if mu > 0 else np.zeros_like(slope)
     groups, left = [], np.ones(slope.size, bool)
     while left.any():              # faces of equal slopes (1e-6) share a surface and an interaction
         i0 = np.flatnonzero(left)[0]
         same = left & (np.abs(slope - slope[i0]) <= 1e-6 * abs(slope[i0])) & (
             np.abs(stick - stick[i0]) <= 1e-6 * abs(stick[i0]))
         k0 = slope[i0]
-        groups.append({"name": f"TABLE{len(groups) + 1}", "faces": face_lines(lay.base_elems[same], "S1"),
+        groups.append({"name": f"TABLE{len(groups) + 1}",
+                       "faces": "\n".join(labels[same]) if quad else face_lines(lay.base_elems[same], "S1"),
                        "line": f"{real(k0 * u.stress / u.length)}, {real(mesh.k_open_ratio * k0 * t * u.stress)}",
                        "friction": f"{real(mu)}, {real(stick[i0] * u.stress / u.length)}" if mu > 0 else ""})
         left &= ~same
     gap_ids = ccx_gaps(model, mesh, "f2f", lay)
     ctx.update(_gaps(model, mesh, gap_ids, lambda ss: ss.k))
-    master = _f2f_master(mesh, lay.next_node + gap_ids.ground.size, lay.first_gap_elem + gap_ids.elem.size, t)
-    ctx.update(f2f_groups=groups, table_master=master["table_master"], master_elems=master["master_elems"])
-    ctx["meta"] = ctx["meta"] + ["** deckbridge-f2f-master slave master (the master top node under each table "
-                                 "slave node: its RF is the slave's contact force)"] + master["pairs"]
+    first = (lay.next_node + gap_ids.ground.size, lay.first_gap_elem + gap_ids.elem.size)
+    master = f2f_ring(model, mesh, *first) if quad else _f2f_master(mesh, *first, t)
+    ctx.update(f2f_groups=groups, table_master=master["table_master"], master_elems=master["master_elems"],
+               quadratic=quad)
+    if not quad:
+        ctx["meta"] = ctx["meta"] + ["** deckbridge-f2f-master slave master (the master top node under each table "
+                                     "slave node: its RF is the slave's contact force)"] + master["pairs"]
     ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"], master["top"], master["bottom"]],
                           u.length, mesh.node_ids))
     return ctx
@@ -349,7 +369,7 @@ def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
             continue
         if method == "penalty" and mesh.quadratic_faces:   # node-to-surface / GAPUNI: node-based (issue 23)
             continue
-        if method == "f2f" and mesh.element not in ("c3d8", "c3d8i"):   # its master layer: 4-node faces only
+        if method == "f2f" and mesh.element not in ("c3d8", "c3d8i", "c3d20", "c3d20r", "c3d10", "c3d15"):
             continue
         text = render(RECORD.templates, tpl, **ctx_fn(model, mesh))
         p = paths[method]

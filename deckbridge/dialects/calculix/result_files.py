@@ -16,6 +16,7 @@ from ...mesh import build_mesh
 from ...numbering.skirt import mesh_node_ids
 from ...errors import read_text
 from ...readers._files import INP_UNITS_TAG
+from .face_rows import QUADRATIC_TYPES
 
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
 _DAT_CONTACT = re.compile(r"^\s*contact stress \(slave node,press,tang1,tang2\) for all contact elements and time\s+(\S+)")
@@ -55,6 +56,7 @@ def _slaves_from_model(model, mesh=None) -> Slaves:
 def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
     """Job metadata, slave table and GAPUNI (slave, ground) pairs of a deckbridge ccx deck.
 
+    ``job["quadratic"]``: the skirt has 8- or 6-node faces (C3D20/C3D20R/C3D10/C3D15 elements).
     Node-to-surface penalty decks add ``job["n2f_order"]`` ((node, surface) in contact-pair order) and
     ``job["n2f_area"]`` ({(node, surface): ccx's slave area [m^2]}); ``job["units"]`` the deck units.
     """
@@ -82,6 +84,9 @@ def _read_meta(inp: Path) -> tuple[dict, Slaves | None, dict]:
         elif line.startswith("*"):
             up = line.upper().replace(" ", "")
             in_gap = up.startswith("*ELEMENT") and "TYPE=GAPUNI" in up
+            et = re.match(r"\*ELEMENT,.*TYPE=(C3D\w+)", up)
+            if et and et.group(1) in QUADRATIC_TYPES:
+                job["quadratic"] = True          # 8- or 6-node slave faces (face_rows.py)
             m = re.search(r"ELSET=GAP_(TABLE|STOP)_", up)
             surface = m.group(1).lower() if (in_gap and m) else None
             ns = re.match(r"\*SURFACE,NAME=SLAVE_(TABLE|STOP)\d+,TYPE=NODE$", up)

@@ -40,6 +40,7 @@ import pandas as pd
 
 from . import RECORD
 from ...errors import DeckbridgeError
+from ...methods import PENALTY
 from ...azimuth import azimuth_deg
 from ...mesh import build_mesh
 from ...model import Model
@@ -291,4 +292,4 @@ def read(path: str | Path, model: Model | None = None, mesh=None) -> pd.DataFram
     raw = raw[raw["table"] == ("OEF1X" if "OEF1X" in tables else "OESNLXR")]
     cmap = contact_map(path, model, mesh)
     lam = model.steps.lambda_max if model is not None else 1.0
-    return tidy(raw, cmap, path, RECORD.source, "penalty", lam)
+    return tidy(raw, cmap, path, RECORD.source, PENALTY, lam)

@@ -62,7 +62,7 @@ class SourceFaces:
     """Source faces of a deck (deck units), per source region: each face's grids; per (region, grid) its share
     and mean normal; per grid its position. A grid on two source regions (a skirt corner on the table and the
     stop) has a row in each, with the one OBC1 pressure Simcenter writes per grid."""
-    faces: list[tuple[int, tuple[int, ...]]]      # (region, grid ids of the face: 3 or 4 corners)
+    faces: list[tuple[int, tuple[int, ...]]]      # (region, grid ids of the face: 3 or 4 corners, then mid-sides)
     xyz: dict[int, np.ndarray]                    # grid -> basic position
     share: dict[tuple[int, int], float]           # (region, grid) -> sum of its face shares [length^2] (NaN: quadratic)
     normal: dict[tuple[int, int], np.ndarray]     # (region, grid) -> mean unit normal of its faces
@@ -83,6 +83,18 @@ def _face_shares(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             s += shape * np.linalg.norm(n)
             nsum += n
     return s, nsum / np.linalg.norm(nsum)
+
+
+def _face_midsides(nids: list, n_corners: int, face: tuple[int, ...]) -> tuple[int, ...]:
+    """The mid-side grids of a quadratic solid's face (``face``: its corner positions) from the card's grid list
+    ``nids`` in Nastran order: CalculiX's edge of each mid-side (:func:`importers.node_order.midside_edges`) at its
+    Nastran place (:data:`importers.node_order.NASTRAN_TO_CCX`, its own inverse)."""
+    from ...importers.node_order import NASTRAN_TO_CCX, midside_edges
+    k = len(nids)
+    perm = NASTRAN_TO_CCX.get(k, list(range(k)))
+    ccx = {20: "c3d20", 15: "c3d15", 10: "c3d10"}[k]
+    on = set(face)
+    return tuple(int(nids[perm[m]]) for m, a, b in midside_edges(ccx) if a in on and b in on)
 
 
 def source_faces(deck: Path) -> SourceFaces:
@@ -111,6 +123,8 @@ def source_faces(deck: Path) -> SourceFaces:
             x = np.array([bdf.nodes[g].get_position() for g in grids], float)
             s, n = _face_shares(x)
             if any(v is not None for v in nids[len(corners):]):
+                grids = grids + _face_midsides(nids, len(corners), hit[0])   # quadratic: the mid-side grids too
+                x = np.array([bdf.nodes[g].get_position() for g in grids], float)
                 s = np.full(len(grids), np.nan)        # quadratic element: shares not the corner rule
             faces.append((sid, grids))
             for g, si, xg in zip(grids, s, x):

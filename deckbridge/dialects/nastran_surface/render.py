@@ -19,6 +19,12 @@ control selects it with ``BCSET`` and asks ``BCRESULTS(TRACTION,FORCE,SEPDIS) = 
   be confirmed from Simcenter's documentation (not available here): nothing is written, Simcenter's defaults
   apply, and the header says so. The Femap deck writes ``BCTPARM 108 PENTYP 1 INIPENE 0``.
 - No ``BCTADD`` (one BCTSET holds both pairs; pyNastran 1.4.1's ``add_bctadd`` drops its CSID).
+- Quadratic skirts (hex20, hex20r, tet10, wedge15; issue 23): CHEXA (20 grids), CTETRA (10), CPENTA (15) in
+  Nastran's grid order (:func:`nastran_order`); the table layer is one 20-node CHEXA (quad8 faces) or 15-node
+  CPENTA (tri6 faces) under each base face, built on the face's own corner and mid-side positions
+  (:func:`_extrude_quadratic`), so that the curved edges of source and target coincide; BSURFS name each face by
+  three corner grids. The radial stop's source faces are the first row's 8-node wall faces (hex20, hex20r, wedge15);
+  on tet10 skirts the stop is refused (:func:`deckbridge.deck_elements.element_problem`).
 - Subcase 1: N; subcase 2: the totals N + lambda_max (T, M) (SOL 101 solves each subcase on its own).
 
 Ids: skirt grids and CHEXAs as in the other Nastran-family decks (:mod:`deckbridge.numbering.nastran`), the
@@ -34,7 +40,10 @@ from pathlib import Path
 import numpy as np
 from pyNastran.bdf.field_writer_8 import print_card_8
 
+from reference_solver.elements import element_type
+
 from ...errors import DeckbridgeError
+from ...importers.node_order import NASTRAN_TO_CCX
 from ...mesh import SkirtMesh
 from ...model import Model
 from ...numbering.nastran import clean_xyz, ground_distance, numbering
@@ -48,15 +57,19 @@ from . import RECORD
 PID_LAYER = 2
 BCSET_ID = 1
 REGION_TABLE_SOURCE, REGION_TABLE_TARGET, REGION_STOP_SOURCE, REGION_STOP_TARGET = 1, 2, 3, 4
+SKIRT_CARDS = {"c3d20": "CHEXA, 20 grids", "c3d20r": "CHEXA, 20 grids", "c3d10": "CTETRA, 10 grids",
+               "c3d15": "CPENTA, 15 grids"}
 HEX_FACES = ((0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
 
 
 @dataclass
 class Layer:
-    """A clamped target layer: its grids (0-based rows of ``xyz``) and CHEXAs, and the source / target faces.
+    """A clamped target layer: its grids (0-based rows of ``xyz``) and cells, and the source / target faces.
 
-    ``source``: (element index of the skirt, 4 skirt node indices) per face; ``target``: (layer element
-    index, 4 layer node indices) of the face it sees. ``xyz`` [m]."""
+    ``source``: (element index of the skirt, the face's skirt node indices: 4, or 8 / 6 on quadratic faces,
+    corners first) per face; ``target``: (layer element index, the layer node indices of the face it sees).
+    ``hexes``: the layer cells (8-node CHEXA; on quadratic faces 20-node CHEXA or 15-node CPENTA in CalculiX node
+    order, :func:`nastran_order` writes them). ``xyz`` [m]."""
     xyz: np.ndarray
     hexes: np.ndarray
     source: list[tuple[int, tuple[int, ...]]]
@@ -107,27 +120,129 @@ def _faces_on(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray, horizontal
 
 def layers(mesh: SkirtMesh) -> tuple[Layer, Layer | None]:
     """The table layer and the stop layer (None without a stop)."""
-    h = ground_distance(mesh)
+    h = layer_thickness(mesh)
     tab = mesh.table
     elems = np.asarray(mesh.base_elems, np.int64)
-    faces = _faces_on(mesh, elems, tab.nodes, horizontal=False)
     n = mesh.n_nodes
     normal = np.zeros((n, 3))
     clear = np.zeros(n)
     normal[tab.nodes] = tab.normal
     clear[tab.nodes] = tab.clearance
-    table = _extrude(mesh, elems, faces, -normal * clear[:, None], -normal * h)
+    quadratic = getattr(mesh, "quadratic_faces", False)      # issue 23
+    if quadratic:
+        table = _extrude_quadratic(mesh, elems, _quadratic_faces(mesh, elems, tab.nodes),
+                                   -normal * clear[:, None], -normal * h)
+    else:
+        faces = _faces_on(mesh, elems, tab.nodes, horizontal=False)
+        table = _extrude(mesh, elems, faces, -normal * clear[:, None], -normal * h)
     if mesh.stop is None:
         return table, None
     st = mesh.stop
     selems = np.asarray(mesh.stop_elems, np.int64)
-    sfaces = _faces_on(mesh, selems, st.nodes, horizontal=True)
+    sfaces = (_quadratic_wall_faces(mesh, selems, st.nodes) if quadratic else
+              _faces_on(mesh, selems, st.nodes, horizontal=True))
     theta = np.arctan2(mesh.nodes[:, 1], mesh.nodes[:, 0])
     side = float(np.sign(st.normal[0] @ [np.cos(np.radians(st.theta_deg[0])), np.sin(np.radians(st.theta_deg[0])), 0.0]))
     radial = side * np.stack([np.cos(theta), np.sin(theta), np.zeros(n)], axis=1)   # master normal at every node
     sclear = np.full(n, float(np.max(st.clearance)) if st.clearance.size else 0.0)
     sclear[st.nodes] = st.clearance
-    return table, _extrude(mesh, selems, sfaces, -radial * sclear[:, None], -radial * h)
+    extrude = _extrude_quadratic if quadratic else _extrude
+    return table, extrude(mesh, selems, sfaces, -radial * sclear[:, None], -radial * h)
+
+
+def layer_thickness(mesh: SkirtMesh) -> float:
+    """The target layers' thickness [m]: one first-row height (:func:`numbering.nastran.ground_distance`); on
+    quadratic meshes the median axial extent of the table faces' cells (their lowest node layer above z = 0 is a
+    mid-side layer, which ``ground_distance`` would take)."""
+    if not getattr(mesh, "quadratic_faces", False):
+        return ground_distance(mesh)
+    z = mesh.nodes[:, 2]
+    return float(np.median(np.ptp(z[mesh.hexes[np.asarray(mesh.base_elems, np.int64)]], axis=1)))
+
+
+def nastran_order(conn) -> list[int]:
+    """Grid list of a cell (CalculiX order) as Nastran's CHEXA / CPENTA / CTETRA wants it: corners, then the mid-side
+    grids of the G1-G4 (G1-G3) face's edges, of the vertical edges, of the opposite face's edges
+    (:data:`deckbridge.importers.node_order.NASTRAN_TO_CCX`, its own inverse); CTETRA's order is CalculiX's."""
+    conn = [int(n) for n in conn]
+    perm = NASTRAN_TO_CCX.get(len(conn))
+    return conn if perm is None else [conn[i] for i in perm]
+
+
+def _reverse(face: np.ndarray, n_corners: int) -> np.ndarray:
+    """A quadratic face (corners cyclic, then the mid-side of edge k between corners k and k + 1) turned the other
+    way round: corners c0, c_{n-1}, .., c1 and mid-sides reversed."""
+    c, m = list(face[:n_corners]), list(face[n_corners:])
+    return np.array([c[0]] + c[1:][::-1] + m[::-1], np.int64)
+
+
+def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
+    """For each element, its one face whose every node is a slave (the table faces of a quadratic skirt), in the
+    element's face order (corners cyclic, then mid-sides)."""
+    et = element_type(mesh.element)
+    slave = np.zeros(mesh.n_nodes, bool)
+    slave[slaves] = True
+    out = []
+    for e in elems:
+        hit = [mesh.hexes[e, list(f)] for f in et.faces if slave[mesh.hexes[e, list(f)]].all()]
+        if len(hit) != 1:
+            raise DeckbridgeError(f"mesh: element {e} has {len(hit)} faces made of slave nodes (needs one)")
+        out.append(hit[0])
+    return np.array(out, np.int64)
+
+
+def _quadratic_wall_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
+    """For each element, its one 8-node face with a horizontal normal (from its corners) holding two or more slave
+    nodes: the stop-side wall face of a first-row 20-node hexahedron or 15-node wedge."""
+    et = element_type(mesh.element)
+    slave = np.zeros(mesh.n_nodes, bool)
+    slave[slaves] = True
+    out = []
+    for e in elems:
+        hit = []
+        for f in et.faces:
+            q = mesh.hexes[e, list(f)]
+            if len(q) != 8:
+                continue
+            c = mesh.nodes[q[:4]]
+            n = np.cross(c[2] - c[0], c[3] - c[1])
+            if abs(n[2]) < 0.5 * np.linalg.norm(n) and slave[q].sum() >= 2:
+                hit.append(q)
+        if len(hit) != 1:
+            raise DeckbridgeError(f"mesh: element {e} has {len(hit)} candidate stop faces (needs one)")
+        out.append(hit[0])
+    return np.array(out, np.int64)
+
+
+def _extrude_quadratic(mesh: SkirtMesh, elems: np.ndarray, faces: np.ndarray, offset: np.ndarray,
+                       thick: np.ndarray) -> Layer:
+    """A layer of quadratic cells under quadratic ``faces`` (n, 8: quad8 -> 20-node CHEXA; n, 6: tri6 -> 15-node
+    CPENTA): near grids at node + offset, far grids at node + offset + thick (every face node, [m]), and a vertical
+    mid-side grid at node + offset + thick / 2 of every corner; the near face turned so that the cell's volume is
+    positive (G1-G4 counter-clockwise seen from the far face, as the 8-node layer)."""
+    nc = 4 if faces.shape[1] == 8 else 3
+    nodes = np.unique(faces)
+    corners = np.unique(faces[:, :nc])
+    pos = {int(n): i for i, n in enumerate(nodes)}
+    vpos = {int(n): 2 * nodes.size + i for i, n in enumerate(corners)}
+    x0 = mesh.nodes[nodes]
+    near = x0 + offset[nodes]
+    far = near + thick[nodes]
+    xc = mesh.nodes[corners] + offset[corners] + 0.5 * thick[corners]
+    xyz = np.vstack([near, far, xc])
+    cells, target = [], []
+    for k, f in enumerate(faces):
+        v = xyz[[pos[int(n)] for n in f[:nc]]]
+        d = thick[f[0]]
+        turn = np.cross(v[1] - v[0], v[-1] - v[0]) @ d
+        g = _reverse(f, nc) if turn < 0 else f
+        a = [pos[int(n)] for n in g]
+        b = [i + nodes.size for i in a]
+        vert = [vpos[int(n)] for n in g[:nc]]
+        cells.append(np.array(a[:nc] + b[:nc] + a[nc:] + b[nc:] + vert))     # CalculiX C3D20 / C3D15 order
+        target.append((k, tuple(a)))
+    src = [(int(e), tuple(int(n) for n in f)) for e, f in zip(elems, faces)]
+    return Layer(xyz, np.array(cells), src, target)
 
 
 def largest_id(mesh: SkirtMesh) -> int:
@@ -138,6 +253,13 @@ def largest_id(mesh: SkirtMesh) -> int:
     n_hex = table.hexes.shape[0] + (0 if stop is None else stop.hexes.shape[0])
     return max(num.node_offset + n_grid, num.elem_offset + n_hex, num.spring_base + mesh.table.nodes.size,
                num.rigid_eid, max_node_id(mesh), max_elem_id(mesh))
+
+
+def _solid(bdf, eid: int, pid: int, conn):
+    """CHEXA (8 or 20 grids), CPENTA (15) or CTETRA (10) of a cell given in CalculiX order (grid ids)."""
+    nids = nastran_order(conn)
+    add = {8: bdf.add_chexa, 20: bdf.add_chexa, 15: bdf.add_cpenta, 10: bdf.add_ctetra}[len(nids)]
+    return add(eid, pid=pid, nids=nids)
 
 
 def _bcrpara(crid: int) -> str:
@@ -165,12 +287,12 @@ def surface_bulk(model: Model, mesh: SkirtMesh) -> tuple[nc.Bulk, dict]:
     b.put("ref_grid", bdf.add_grid(num.ref_node, xyz=nc.clean(np.asarray(mesh.ref_point) * u.length), cp=0, cd=0))
     eids = elem_ids(mesh, np.arange(mesh.hexes.shape[0]))
     for e, h in zip(eids, mesh_node_ids(mesh, mesh.hexes)):
-        b.put("hexas", bdf.add_chexa(int(e), pid=nc.PID_SOLID, nids=[int(n) for n in h]))
+        b.put("hexas", _solid(bdf, int(e), nc.PID_SOLID, h))
 
     table, stop = layers(mesh)
     next_grid, next_elem = num.node_offset + 1, num.elem_offset + 1
     pairs, maxd = [], []
-    h = ground_distance(mesh)
+    h = layer_thickness(mesh)
     for lay, src, tgt, sset in ((table, REGION_TABLE_SOURCE, REGION_TABLE_TARGET, mesh.table),
                                 (stop, REGION_STOP_SOURCE, REGION_STOP_TARGET, mesh.stop)):
         if lay is None:
@@ -181,7 +303,7 @@ def surface_bulk(model: Model, mesh: SkirtMesh) -> tuple[nc.Bulk, dict]:
         for g, xyz in zip(gid, clean_xyz(lay.xyz)):
             b.put("layer_grids", bdf.add_grid(int(g), xyz=[float(c) * u.length for c in xyz], cp=0, cd=0))
         for e, hx in zip(hid, lay.hexes):
-            b.put("layer_hexas", bdf.add_chexa(int(e), pid=PID_LAYER, nids=[int(gid[i]) for i in hx]))
+            b.put("layer_hexas", _solid(bdf, int(e), PID_LAYER, gid[hx]))
         b.put("layer_spc", bdf.add_spc1(nc.SPC_SID, components="123456", nodes=[int(g) for g in gid]))
         se = [int(eids[e]) for e, _ in lay.source]
         sg = [[int(x) for x in mesh_node_ids(mesh, np.array(f[:3]))] for _, f in lay.source]
@@ -223,6 +345,11 @@ def deck_text(model: Model, mesh: SkirtMesh) -> str:
         friction=f"{model.contact.friction:g}", tangential=nc.tangential(model), spc_sid=nc.SPC_SID,
         bcset=BCSET_ID, load_step1=nc.LOAD_STEP1, load_step2=nc.LOAD_LINEAR, cid_cyl=nc.CID_CYL,
         n_grids=mesh.n_nodes, n_hexa=mesh.hexes.shape[0], load_introduction=model.load_introduction,
+        quadratic=getattr(mesh, "quadratic_faces", False), element=model.mesh.element,
+        skirt_cards=SKIRT_CARDS.get(getattr(mesh, "element", ""), ""),
+        layer_cell=("CHEXA" if not getattr(mesh, "quadratic_faces", False) else
+                    "CHEXA" if mesh.element in ("c3d20", "c3d20r") else "CPENTA"),
+        layer_cards="CHEXA (20 grids)" if getattr(mesh, "element", "") in ("c3d20", "c3d20r") else "CPENTA (15 grids)",
         cards={g: _text(b, g) for g in b.groups}, **facts)
 
 
