@@ -136,8 +136,8 @@ def build_any_order(model):
     g, ms, pen = model.geometry, model.mesh, model.contact.penalty
     if model.contact.pads is not None:
         raise ModelError("contact.pads", "set", f"needs mesh.element hex8i or hex8 (not {ms.element}): pads "
-                         "on quadratic or tetrahedral faces are not built yet (the face-weighted law opens nodes "
-                         "under compression at a pad's edges)")
+                         "on quadratic or tetrahedral faces are not built yet (tried: the face-weighted law lifts pad "
+                         "nodes under N alone, where the 8-node skirt keeps every pad node pressed)")
     et = element_type(ms.element)
     nodes, cells, ijk = skirt_cells(model)
     nt, nr, nz = ms.n_theta, ms.n_r, ms.n_z

@@ -5,10 +5,9 @@ the pad faces of a quadratic base are not built yet).
 
 Pads were tried on the parametric skirts (each table face standing for its coarse cell's 8-node base face in
 ``supports.pad_face_mask``; 48 x 6 x 1, 4 pads of 30 deg, kinematic top, N alone, Lagrange): each pad's reaction is
-N / 4 to 2e-12 and the projected pressure integrates to it (int sigma_N dA with the consistent face M, 1e-9), but
-the face-weighted law marks 44 of 92 (hex20) and 68 of 108 (tet10) pad nodes open at +2 um gaps under compressive
-sigma_N near the pad edges (without pads: none open), so they stay refused until that law is verified past
-liftoff."""
+N / 4 to 2e-12, but the face-weighted law (hat basis) lifts 36 of 92 (hex20, hex20r), 64 of 108 (tet10) and
+60 of 108 (wedge15) pad nodes by 2-4 um where the 8-node skirt keeps every pad node pressed
+(tests/test_pads.py), so pads stay refused on these faces."""
 
 from __future__ import annotations
 

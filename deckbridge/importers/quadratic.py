@@ -140,8 +140,8 @@ def quadratic_mesh(model, name: str, nodes, cells, base, top, stop_set, node_ids
                          "element face (every base node must be a node of a bottom face)")
     if model.contact.pads is not None:
         raise ModelError("contact.pads", "set", f"needs 8-node hexahedra in an imported mesh (not {name.upper()}): "
-                         "pads on an imported quadratic mesh are not built yet (the face-weighted law opens nodes under "
-                         "compression at a pad's edges)")
+                         "pads on an imported quadratic mesh are not built yet (tried on the parametric skirt: the "
+                         "face-weighted law lifts pad nodes under N alone)")
     base_elems = _elems_with_face(et, cells, on_base)
     h1 = float(np.mean(np.ptp(nodes[cells[base_elems], 2], axis=1)))
     tnodes, tarea = hrz_areas(tfaces, nodes)
