@@ -39,14 +39,13 @@ KNOWN = [
 ]
 
 
-def _params():
+def _params(case: Case) -> list:
     out = []
-    for case in CASES:
-        for check in CHECKS:
-            why = next((why for rule, checks, why in KNOWN
-                        if rule(case.levels) and (checks is None or check in checks)), None)
-            marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
-            out.append(pytest.param(case, check, id=f"{case.name}-{check}", marks=marks))
+    for check in CHECKS:
+        why = next((why for rule, checks, why in KNOWN
+                    if rule(case.levels) and (checks is None or check in checks)), None)
+        marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
+        out.append(pytest.param(check, id=f"{case.name}-{check}", marks=marks))
     return out
 
 
@@ -78,10 +77,18 @@ def test_covering_array_covers_every_allowed_pair_and_no_forbidden_one():
     assert len(cases) < len(list(itertools.product(*FACTORS.values()))) / 100
 
 
-@pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
-@pytest.mark.parametrize("case,check", _params())
-def test_scenario(runs, case, check):
-    CHECKS[check](runs(case))
+def _case_class(k: int, case: Case) -> type:
+    """``TestCase<k>``: the case's invariants, one test each. A class per case so that pytest-xdist's
+    ``--dist loadscope`` (pyproject addopts) keeps a case's invariants on the worker that ran the case."""
+    @pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
+    @pytest.mark.parametrize("check", _params(case))
+    def test_scenario(self, runs, check):
+        CHECKS[check](runs(case))
+    return type(f"TestCase{k:02d}", (), {"__doc__": case.name, "test_scenario": test_scenario})
+
+
+for _k, _case in enumerate(CASES):
+    globals()[f"TestCase{_k:02d}"] = _case_class(_k, _case)
 
 
 @pytest.mark.parametrize("overrides,dialect,key", REFUSED, ids=[r[2] + "-" + r[1] for r in REFUSED])
