@@ -7,7 +7,7 @@ worker, so that a module's module-scoped fixtures and caches (a solve, a ccx job
 class per case (tests/test_scenario_matrix.py), so its cases spread over the workers while each case's run is
 shared by its invariants. (``--dist loadgroup`` with ``xdist_group`` marks would say the same, but it groups
 nothing with pytest 9.2: pytest-xdist issue 1386.) The scopes are sent longest first (:data:`LONG_SCOPES`,
-measured CPU seconds; the rest keep their file order behind them), so that the two workers finish together
+measured CPU seconds; the rest behind them, most tests first), so that the two workers finish together
 rather than one waiting on a long module at the end. Only the order and the worker change; every test runs
 as written.
 """
@@ -48,10 +48,13 @@ def _weight(scope: str) -> float:
 
 @pytest.hookimpl(trylast=True)
 def pytest_collection_modifyitems(config, items):
-    """On an xdist worker: the longest scopes first (a stable sort: within a scope, and among the rest, the
-    file order). Every worker sorts the same collection the same way, as xdist requires."""
+    """On an xdist worker: the scopes of LONG_SCOPES first, longest first; then the rest by their number of
+    tests, most first (xdist's own --loadscope-reorder rule), ties in file order; within a scope the file
+    order (a stable sort). Every worker sorts the same collection the same way, as xdist requires."""
     if not hasattr(config, "workerinput"):      # -n 0: file order
         return
-    scopes = list(dict.fromkeys(_scope(item.nodeid) for item in items))
-    order = {s: (-_weight(s), k) for k, s in enumerate(scopes)}
+    count: dict[str, int] = {}
+    for item in items:
+        count[_scope(item.nodeid)] = count.get(_scope(item.nodeid), 0) + 1
+    order = {s: (-_weight(s), -n, k) for k, (s, n) in enumerate(count.items())}
     items.sort(key=lambda item: order[_scope(item.nodeid)])
