@@ -10,6 +10,7 @@ costs half the time) and returns what the invariants of :mod:`scenario_checks` r
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import random
 from dataclasses import dataclass
@@ -170,15 +171,42 @@ class Run:
     si_twin: Path | None = None      # the SI twin's ccx penalty job of a mm case (scenario_checks, made once)
 
 
-def run_case(case: Case, folder: Path) -> Run:
-    """Load the case's model and run the job with CalculiX into ``folder``/job (report drawing left out)."""
+def with_min_increment(text: str, dt_min: float) -> str:
+    """An inp deck's text with every ``*STATIC`` minimum increment (3rd field of its data line) raised to at
+    least ``dt_min`` [step time]."""
+    lines = text.split("\n")
+    for k in range(1, len(lines)):
+        if lines[k - 1].strip().upper().startswith("*STATIC") and not lines[k].lstrip().startswith("*"):
+            f = lines[k].split(",")
+            f[2] = f" {max(float(f[2]), dt_min):.12e}"
+            lines[k] = ",".join(f)
+    return "\n".join(lines)
+
+
+def _mortar_min_increment(dt_min: float):
+    """A stand-in for the ccx runner that raises the mortar deck's minimum increment to ``dt_min`` first."""
+    from deckbridge.dialects.calculix import runner
+    real = runner.run
+
+    def run(deck, *args, **kwargs):
+        if Path(deck).name.endswith("_ccx_lagrange.inp"):
+            Path(deck).write_text(with_min_increment(Path(deck).read_text(), dt_min))
+        return real(deck, *args, **kwargs)
+    return mock.patch.object(runner, "run", run)
+
+
+def run_case(case: Case, folder: Path, mortar_min_increment: float | None = None) -> Run:
+    """Load the case's model and run the job with CalculiX into ``folder``/job (report drawing left out).
+    ``mortar_min_increment``: raise the ccx mortar deck's minimum increment [step time] to it (a case known
+    to stall in ccx then stops sooner at the same load factor; see tests/test_scenario_matrix.py)."""
     folder = Path(folder)
     lines: list[str] = []
     run = Run(case, None, folder / "job", lines, {}, {}, {})
     try:
         run.overrides = tuple(case.overrides(case.mesh_files(folder)))
         run.model = load(None, list(run.overrides))
-        with mock.patch("deckbridge.job.write_report_with_verdict", return_value=[]):
+        cap = _mortar_min_increment(mortar_min_increment) if mortar_min_increment else contextlib.nullcontext()
+        with mock.patch("deckbridge.job.write_report_with_verdict", return_value=[]), cap:
             res = run_job(run.model, run.out, with_ccx=True, echo=lines.append)
     except Exception as exc:                     # the invariant "no traceback" reads it
         run.error = f"{type(exc).__name__}: {exc}".splitlines()[0]

@@ -25,28 +25,39 @@ CASES = [Case(levels) for levels in covering_array()]
 # increments and false gross slip are fixed on main; the mortar deck on cones is compared through the wall
 # (scenario_checks.ccx_vs_reference, docs/mortar_stop.md); what is left are open bugs, each named here:
 ALL_BUT_DECKS = tuple(c for c in CHECKS if c != "decks_command")
+
+
+def _mortar_stalls(v: dict) -> bool:
+    return v["nlgeom"] and v["pads"] == "pads" and v["stop"] == "outer" and v["t_over_r"] == 0.005
+
+
+# The stalling case only has to show the stall: its mortar deck's minimum increment (2e-6 of step 2) is
+# raised to this, so that ccx says 'increment size smaller than minimum' at lambda 0.57205 after 22 s of CPU
+# instead of at 0.57225 after 75 s (the same increments and attempts up to there, compared in the .sta;
+# one run of ccx 2.20). A fix that lets ccx through lambda 0.572 still XPASSes.
+STALL_MIN_INCREMENT = 1e-4
+
 KNOWN = [
     (lambda v: v["mesh"] == "bdf" and v["tangential"] == "friction" and v["top"] == "kinematic",
      ("no_free_penetration", "ccx_vs_reference"),
      "open: ccx's node-to-surface search drops the interior through-wall table nodes with friction on these "
      "Gmsh .bdf skirts (3.6-3.8 mm into the table with no force from lambda 0.6; SMALL SLIDING delays it to 0.8, "
      "master extent/faceting do not cure it, small increments diverge at 0.44: docs/mortar_stop.md)"),
-    (lambda v: v["nlgeom"] and v["pads"] == "pads" and v["stop"] == "outer" and v["t_over_r"] == 0.005,
-     ALL_BUT_DECKS,
+    (_mortar_stalls, ALL_BUT_DECKS,
      "open: ccx's mortar deck with NLGEOM, pads and an outer stop stalls at lambda 0.572 on t/R 0.005 "
      "('increment size smaller than minimum'; tipping at 1.194; without NLGEOM or the stop it runs; not the "
-     "GAPUNI stiffness (x 1e-4) nor the residual controls (ccx defaults): docs/mortar_stop.md)"),
+     "GAPUNI stiffness (x 1e-4) nor the residual controls (ccx defaults): docs/mortar_stop.md; here with the "
+     f"minimum increment raised to {STALL_MIN_INCREMENT:g}, see STALL_MIN_INCREMENT)"),
 ]
 
 
-def _params():
+def _params(case: Case) -> list:
     out = []
-    for case in CASES:
-        for check in CHECKS:
-            why = next((why for rule, checks, why in KNOWN
-                        if rule(case.levels) and (checks is None or check in checks)), None)
-            marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
-            out.append(pytest.param(case, check, id=f"{case.name}-{check}", marks=marks))
+    for check in CHECKS:
+        why = next((why for rule, checks, why in KNOWN
+                    if rule(case.levels) and (checks is None or check in checks)), None)
+        marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
+        out.append(pytest.param(check, id=f"{case.name}-{check}", marks=marks))
     return out
 
 
@@ -57,7 +68,8 @@ def runs(tmp_path_factory):
 
     def get(case: Case):
         if case.name not in cache:
-            cache[case.name] = run_case(case, tmp_path_factory.mktemp(f"case{len(cache):02d}"))
+            cap = STALL_MIN_INCREMENT if _mortar_stalls(case.levels) else None
+            cache[case.name] = run_case(case, tmp_path_factory.mktemp(f"case{len(cache):02d}"), cap)
         return cache[case.name]
     return get
 
@@ -78,10 +90,18 @@ def test_covering_array_covers_every_allowed_pair_and_no_forbidden_one():
     assert len(cases) < len(list(itertools.product(*FACTORS.values()))) / 100
 
 
-@pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
-@pytest.mark.parametrize("case,check", _params())
-def test_scenario(runs, case, check):
-    CHECKS[check](runs(case))
+def _case_class(k: int, case: Case) -> type:
+    """``TestCase<k>``: the case's invariants, one test each. A class per case so that pytest-xdist's
+    ``--dist loadscope`` (pyproject addopts) keeps a case's invariants on the worker that ran the case."""
+    @pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")
+    @pytest.mark.parametrize("check", _params(case))
+    def test_scenario(self, runs, check):
+        CHECKS[check](runs(case))
+    return type(f"TestCase{k:02d}", (), {"__doc__": case.name, "test_scenario": test_scenario})
+
+
+for _k, _case in enumerate(CASES):
+    globals()[f"TestCase{_k:02d}"] = _case_class(_k, _case)
 
 
 @pytest.mark.parametrize("overrides,dialect,key", REFUSED, ids=[r[2] + "-" + r[1] for r in REFUSED])
