@@ -1,10 +1,12 @@
-"""Where the CPU time of one ``deckbridge solve`` goes, per stage (issue 22).
+"""Where the time of one ``deckbridge solve`` goes, per stage (issue 22): wall and process CPU seconds.
 
-Runs the command in this process (the default JAR model meshed n_theta x n_z x n_r, default outputs)
-under cProfile with the process CPU clock as its timer (threads' CPU included: a stage that waits on its
-writer threads is charged their CPU), then prints the cumulative CPU seconds of the functions that make
-the stages, and the whole command's CPU. Profiling overhead is small here (the work is in compiled code)
-but not nil: take the shares, and the ratios of bench/solve_command.py for the totals.
+Runs the command in this process (the default JAR model meshed n_theta x n_z x n_r, default outputs), with
+timers around the functions that make its stages (the condensation's own stage marks,
+:mod:`reference_solver.stages`; the load path, the contact table, the summary; the output stage's
+displacement recovery, stresses, result.vtu mesh and VTU writing, looked up at call time in their modules)
+and prints each stage's wall and CPU seconds (process CPU: the VTU writer threads' CPU is charged to the
+VTU stage) and its share of the command's CPU. What is not in a stage (imports, model, mesh, guard,
+contact.csv, summary.json, interpreter exit not included) is printed as the rest.
 
     python bench/solve_stages.py 320 140 2 --method penalty
 """
@@ -12,9 +14,8 @@ but not nil: take the shares, and the ratios of bench/solve_command.py for the t
 from __future__ import annotations
 
 import argparse
-import cProfile
+import functools
 import os
-import pstats
 import sys
 import tempfile
 import time
@@ -23,60 +24,63 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-# (label, file suffix, function name): cumulative CPU of the function named so, in the file named so
-STAGES = [
-    ("memory guard (mesh + estimate)", "deckbridge/cli/_common.py", "guarded"),
-    ("mesh", "deckbridge/mesh.py", "build_mesh"),
-    ("problem", "deckbridge/solve.py", "build_problem"),
-    ("condensation (all)", "reference_solver/condense.py", "_condense"),
-    ("  assembly", "reference_solver/assembly.py", "assemble_problem_blocks"),
-    ("  split + factor + Schur", "reference_solver/trailing.py", "schur_blocks"),
-    ("load path", "reference_solver/path.py", "solve_path"),
-    ("contact table", "deckbridge/solve.py", "contact_table"),
-    ("summary", "deckbridge/solve.py", "make_summary"),
-    ("write outputs (all)", "deckbridge/solve.py", "write_outputs"),
-    ("  contact.csv", "pandas/core/generic.py", "to_csv"),
-    ("  displacements (path_fields)", "reference_solver/recover.py", "path_fields"),
-    ("  stresses (states_stress)", "reference_solver/recover.py", "states_stress"),
-    ("  result.vtu mesh", "deckbridge/paraview.py", "result_mesh"),
-    ("  VTU writing", "deckbridge/paraview.py", "write_vtus"),
-]
-
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("mesh", nargs=3, type=int, metavar=("NT", "NZ", "NR"))
     ap.add_argument("--method", default="penalty")
     ap.add_argument("--set", action="append", default=[], help="extra model key=value")
-    ap.add_argument("--top", type=int, default=0, help="also print the N functions of largest own CPU")
     a = ap.parse_args(argv)
     os.environ.setdefault("DECKBRIDGE_ALLOW_LARGE", "1")
+    w0, c0 = time.perf_counter(), time.process_time()
+    from deckbridge import paraview as pv
+    from deckbridge import solve as sv
     from deckbridge.cli import main as cli
+    from reference_solver import stages
+    rows: list[tuple[str, float, float]] = [("imports", time.perf_counter() - w0, time.process_time() - c0)]
+
+    def timed(label, fn):
+        @functools.wraps(fn)
+        def wrapper(*args, **kw):
+            w, c = time.perf_counter(), time.process_time()
+            try:
+                return fn(*args, **kw)
+            finally:
+                rows.append((label, time.perf_counter() - w, time.process_time() - c))
+        return wrapper
+
+    clock = [time.perf_counter(), time.process_time()]
+
+    def hook(name):
+        w, c = time.perf_counter(), time.process_time()
+        rows.append((f"condensation: {name}", w - clock[0], c - clock[1]))
+        clock[:] = [time.perf_counter(), time.process_time()]
+
+    def condense_model(*args, **kw):
+        clock[:] = [time.perf_counter(), time.process_time()]
+        return original(*args, **kw)
+
+    original = sv.condense_model
+    sv.condense_model = condense_model
+    for mod, name, label in [(sv, "_path", "load path"), (sv, "contact_table", "contact table"),
+                             (sv, "make_summary", "summary"), (pv, "path_fields", "outputs: displacements"),
+                             (pv, "states_stress", "outputs: stresses"), (pv, "result_mesh", "outputs: result.vtu mesh"),
+                             (pv, "write_vtus", "outputs: VTU writing")]:
+        setattr(mod, name, timed(label, getattr(mod, name)))
+    stages.set_hook(hook)
     nt, nz, nr = a.mesh
     out = Path(tempfile.mkdtemp(prefix="bench-stages-")) / "o"
     args = ["solve", "--method", a.method, "--set", f"mesh.n_theta={nt}", "--set", f"mesh.n_z={nz}",
             "--set", f"mesh.n_r={nr}", "-o", str(out)] + [x for kv in a.set for x in ("--set", kv)]
-    prof = cProfile.Profile(timer=time.process_time)
-    w, c = time.perf_counter(), time.process_time()
-    prof.enable()
-    try:
-        cli.main(args, standalone_mode=False)
-    finally:
-        prof.disable()
-    wall, cpu = time.perf_counter() - w, time.process_time() - c
-    st = pstats.Stats(prof)
-    cum: dict[str, float] = {}
-    for (fname, _line, func), (_cc, _nc, _tt, ct, _callers) in st.stats.items():
-        for label, suffix, name in STAGES:
-            if func == name and fname.endswith(suffix):
-                cum[label] = cum.get(label, 0.0) + ct
+    cli.main(args, standalone_mode=False)
+    wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     print(f"mesh {nt}x{nz}x{nr} {a.method}: command in-process {wall:.2f} s wall, {cpu:.2f} s CPU; "
           f"load {os.getloadavg()[0]:.1f}")
-    for label, _s, _n in STAGES:
-        if label in cum:
-            print(f"  {label:<34} {cum[label]:8.2f} s CPU  {100 * cum[label] / cpu:5.1f} %")
-    if a.top:
-        st.sort_stats("tottime").print_stats(a.top)
+    print(f"  {'stage':<36} {'wall s':>8} {'CPU s':>8} {'CPU %':>6}")
+    for label, w, c in rows:
+        print(f"  {label:<36} {w:8.2f} {c:8.2f} {100 * c / cpu:6.1f}")
+    rest_w, rest_c = wall - sum(r[1] for r in rows), cpu - sum(r[2] for r in rows)
+    print(f"  {'rest (model, mesh, guard, csv, json)':<36} {rest_w:8.2f} {rest_c:8.2f} {100 * rest_c / cpu:6.1f}")
     return 0
 
 
