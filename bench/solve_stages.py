@@ -36,7 +36,7 @@ def main(argv=None) -> int:
     from deckbridge import paraview as pv
     from deckbridge import solve as sv
     from deckbridge.cli import main as cli
-    from reference_solver import stages
+    from reference_solver import recover, stages
     rows: list[tuple[str, float, float]] = [("imports", time.perf_counter() - w0, time.process_time() - c0)]
 
     def timed(label, fn):
@@ -64,6 +64,7 @@ def main(argv=None) -> int:
     sv.condense_model = condense_model
     for mod, name, label in [(sv, "_path", "load path"), (sv, "contact_table", "contact table"),
                              (sv, "make_summary", "summary"), (pv, "path_fields", "outputs: displacements"),
+                             (recover, "path_fields", "displacements of every state (api.solve)"),
                              (pv, "states_stress", "outputs: stresses"), (pv, "result_mesh", "outputs: result.vtu mesh"),
                              (pv, "write_vtus", "outputs: VTU writing")]:
         setattr(mod, name, timed(label, getattr(mod, name)))
