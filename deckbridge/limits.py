@@ -49,6 +49,7 @@ STRAIN_OPERATOR_COPIES = 4.0      # the chunk's operator, its B_u, B_a and the s
 STATE_POINT_FLOATS = 29
 STATE_CELL_FLOATS = 7
 STRESS_CHUNK = 2048               # reference_solver.recover.STRESS_CHUNK (not imported: a test checks they agree)
+STRESS_THREADS = 2                # reference_solver.recover.STRESS_THREADS: chunks whose operators are built at once
 # the symbolic estimate's other terms (solve_estimate), fitted on the measured peaks of bench/memory_guard.py
 PROCESS_BYTES = 170 * 2**20        # interpreter, NumPy/SciPy/pandas/CHOLMOD, deckbridge
 FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and CHOLMOD's workspace
@@ -151,7 +152,7 @@ def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: in
     parts = {"split": base + SPLIT_BYTES_PER_NODE * n, "load_path": base + factor + PATH_DENSE_ARRAYS * 8 * nr2}
     if vtu:
         fields = states * 8 * (STATE_POINT_FLOATS * n + STATE_CELL_FLOATS * n_hex)     # every state's VTU data
-        operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * min(n_hex, STRESS_CHUNK)
+        operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * min(n_hex, STRESS_THREADS * STRESS_CHUNK)
         parts["vtu"] = base + factor + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator
     return Estimate(ESTIMATE_MARGIN * max(parts.values()), N, int(n_retained), int(factor_entries), parts)
 

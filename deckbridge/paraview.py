@@ -58,10 +58,29 @@ _PATCH = threading.Lock()
 
 
 class _LeveledZlib:
-    """The zlib module with ``compress`` at a fixed level (what meshio's VTU writer calls per block)."""
+    """The zlib module with ``compress`` at a fixed level (what meshio's VTU writer calls per block).
+
+    A block met a second time within one batch of files is compressed once more and remembered; from
+    its third time on the remembered bytes are returned (zlib is deterministic: the same bytes as
+    compressing it). The series' states repeat their mesh (points, connectivity, ids, sets, areas: about
+    40 % of a state's bytes) and their all-zero blocks; a block seen once costs one hash in a set."""
 
     def __init__(self, level: int):
-        self.compress = functools.partial(zlib.compress, level=level)
+        self._compress = functools.partial(zlib.compress, level=level)
+        self._seen: set[int] = set()
+        self._memo: dict[bytes, bytes] = {}
+
+    def compress(self, block: bytes) -> bytes:
+        hit = self._memo.get(block)
+        if hit is not None:
+            return hit
+        out = self._compress(block)
+        key = hash(block)
+        if key in self._seen:                 # the second time (or a hash collision: one more entry)
+            self._memo[block] = out
+        else:
+            self._seen.add(key)
+        return out
 
     def __getattr__(self, name):
         return getattr(zlib, name)

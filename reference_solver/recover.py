@@ -6,6 +6,10 @@ Units: displacements [m], stresses [Pa], tension > 0. Voigt order of every stres
 
 from __future__ import annotations
 
+import os
+from collections import deque
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 from scipy import sparse
 
@@ -17,6 +21,34 @@ from .path import Solution
 # about 3 such arrays alive while it is built; under glibc's 32 MB mmap threshold the freed arrays are
 # reused, not page-faulted afresh (8192: 1.6x the CPU, bench/README.md)
 STRESS_CHUNK = 2048
+# threads building the chunks' strain operators at once (at most the cores this process may use); each
+# holds one chunk's operator and results (about 0.06 GB), and at most two chunks wait to be summed
+STRESS_THREADS = 2
+
+
+def _stress_threads() -> int:
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    return max(1, min(STRESS_THREADS, cores))
+
+
+def _ordered_map(fn, items):
+    """``map(fn, items)`` in order, computed on :func:`_stress_threads` threads with at most threads + 1 results
+    ahead of the consumer (memory bounded by a few chunks)."""
+    n = _stress_threads()
+    if n == 1 or len(items) < 2:
+        yield from map(fn, items)
+        return
+    with ThreadPoolExecutor(n) as pool:
+        pending = deque()
+        for item in items:
+            pending.append(pool.submit(fn, item))
+            if len(pending) > n:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()
 
 
 def path_fields(system: CondensedSystem, sol: Solution, rows=None) -> np.ndarray:
@@ -47,26 +79,34 @@ def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     m = U.shape[0]
     ne = sum(len(b.cells) for b in p.blocks)
     cell, total, count = np.empty((m, ne, 6)), np.zeros((m, n, 6)), np.zeros(n)
-    start = 0
+    step = max(int(chunk), 1)
+    jobs, start = [], 0
     for b in p.blocks:
-        ext = b.element.extrapolation()                                     # (nodes, ng)
-        for lo in range(0, len(b.cells), max(int(chunk), 1)):
-            cells = b.cells[lo:lo + chunk]
-            k, nn = cells.shape
-            xyz = p.nodes[cells]
-            w = b.element.volume_weights(xyz)
-            w /= w.sum(axis=1, keepdims=True)
-            op = b.element.gauss_strain_operator(xyz, p.E, p.nu)              # (k, ng, 6, 3 nn)
-            ue = U[:, cells].reshape(m, k, 3 * nn).transpose(1, 2, 0)[:, None]  # (k, 1, 3 nn, m)
-            g = np.matmul(op, ue).transpose(3, 0, 1, 2) @ D.T                  # (m, k, ng, 6) [Pa]
-            del op
-            cell[:, start + lo:start + lo + k] = (w[:, None, :] @ g)[:, :, 0]
-            at_nodes = (ext @ g).reshape(m, k * nn, 6)                         # (m, k nn, 6)
-            scatter = sparse.csr_matrix((np.ones(k * nn), (cells.ravel(), np.arange(k * nn))), shape=(n, k * nn))
-            for s in range(m):
-                total[s] += scatter @ at_nodes[s]
-            count += np.bincount(cells.ravel(), minlength=n)
+        jobs += [(b.element, b.element.extrapolation(), b.cells[lo:lo + step], start + lo)
+                 for lo in range(0, len(b.cells), step)]
         start += len(b.cells)
+
+    def chunk_stress(job):
+        element, ext, cells, _ = job
+        k, nn = cells.shape
+        xyz = p.nodes[cells]
+        w = element.volume_weights(xyz)
+        w /= w.sum(axis=1, keepdims=True)
+        op = element.gauss_strain_operator(xyz, p.E, p.nu)                  # (k, ng, 6, 3 nn)
+        ue = U[:, cells].reshape(m, k, 3 * nn).transpose(1, 2, 0)[:, None]  # (k, 1, 3 nn, m)
+        g = np.matmul(op, ue).transpose(3, 0, 1, 2) @ D.T                  # (m, k, ng, 6) [Pa]
+        del op
+        return (w[:, None, :] @ g)[:, :, 0], (ext @ g).reshape(m, k * nn, 6)
+
+    # the chunks' element work on up to STRESS_THREADS threads (NumPy releases the GIL in it); the cell
+    # values and the nodal sums taken in chunk order on this thread, so the sums are the same bits
+    for (_, _, cells, at), (cell_k, at_nodes) in zip(jobs, _ordered_map(chunk_stress, jobs)):
+        k, nn = cells.shape
+        cell[:, at:at + k] = cell_k
+        scatter = sparse.csr_matrix((np.ones(k * nn), (cells.ravel(), np.arange(k * nn))), shape=(n, k * nn))
+        for s in range(m):
+            total[s] += scatter @ at_nodes[s]
+        count += np.bincount(cells.ravel(), minlength=n)
     nodal = total                                   # in place; nodes no element touches keep 0
     nodal /= np.maximum(count, 1)[:, None]
     return [{"cell": cell[s], "cell_von_mises": von_mises(cell[s]),

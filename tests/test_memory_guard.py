@@ -111,8 +111,8 @@ def test_solve_command_builds_the_mesh_once_when_the_guard_needs_it(monkeypatch,
 
 
 def test_the_guard_knows_the_stress_recovery_chunk():
-    from reference_solver.recover import STRESS_CHUNK
-    assert limits.STRESS_CHUNK == STRESS_CHUNK
+    from reference_solver.recover import STRESS_CHUNK, STRESS_THREADS
+    assert limits.STRESS_CHUNK == STRESS_CHUNK and limits.STRESS_THREADS == STRESS_THREADS
     base = dict(n_nodes=300_000, n_retained=1_000, factor_entries=30_000_000, states=12)
     # past one chunk, more elements add their fields only, not their strain operator (9.2 kB each)
     extra = limits.solve_estimate(**base, n_hex=4 * STRESS_CHUNK).parts["vtu"] - \
