@@ -94,6 +94,19 @@ def retained_bound(model) -> int:
     return int(m.n_theta) * per_azimuth * (2 if friction else 1)
 
 
+def contact_rows_floor(model) -> int:
+    """Lower bound of the condensed contact rows of a structured mesh: every base node of the ring (n_theta x
+    (n_r + 1)), or with pads at least count x (floor(width_deg / 360 x n_theta) - 1) (snapping, radial band of
+    one node). 0 for an imported mesh. Its dense block (8 bytes per entry) is memory no solve can avoid."""
+    if _imported(model):
+        return 0
+    m = model.mesh
+    pads = getattr(model.contact, "pads", None)
+    if pads is None:
+        return int(m.n_theta) * (int(m.n_r) + 1)
+    return int(pads.count) * max(0, int(np.floor(float(pads.width_deg) / 360.0 * int(m.n_theta))) - 1)
+
+
 def model_dofs(model) -> int:
     """Dofs of the model's mesh: arithmetic for the structured mesh, 3 x the node count of an imported file."""
     m = model.mesh
@@ -220,7 +233,10 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
         return copies * quick_estimate(model, n)
     have = available_bytes()
     need, how = copies * quick_estimate(model, n), "arithmetic bound"
-    if have is not None and need > have and n <= SYMBOLIC_MAX_DOFS and copies * FLOOR_BYTES_PER_DOF * n <= have:
+    floor = copies * 8.0 * float(contact_rows_floor(model)) ** 2
+    if have is not None and floor > have:           # no symbolic analysis (seconds to minutes) to refuse this
+        need, how = max(need, floor), "its dense contact block alone"
+    elif have is not None and need > have and n <= SYMBOLIC_MAX_DOFS and copies * FLOOR_BYTES_PER_DOF * n <= have:
         need, how = copies * symbolic_estimate(model, mesh() if callable(mesh) else mesh).bytes, \
             "from its symbolic factorisation"
     if have is not None and need > have:

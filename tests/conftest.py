@@ -25,7 +25,6 @@ SHARED = REPO.parent / "shared"
 # A scope missing here (or an estimate gone stale) only changes the order, never what runs.
 LONG_SCOPES = {
     "tests/test_friction_report.py": 100.0,
-    "tests/test_campaign_inputs.py": 80.0,
     "tests/test_scenario_matrix.py::": 60.0,      # each case's class (TestCaseNN), one scope each
 }
 

@@ -118,3 +118,27 @@ def test_the_guard_knows_the_stress_recovery_chunk():
     extra = limits.solve_estimate(**base, n_hex=4 * STRESS_CHUNK).parts["vtu"] - \
         limits.solve_estimate(**base, n_hex=2 * STRESS_CHUNK).parts["vtu"]
     assert extra == (12 * 8 * limits.STATE_CELL_FLOATS + 130) * 2 * STRESS_CHUNK
+
+
+@pytest.mark.parametrize("extra", [[], ["mesh.n_r=2"], ["mesh.element=hex20r"],
+                                   ["contact.pads={count: 4, width_deg: 30, first_deg: 45}", "mesh.n_theta=48"],
+                                   ["contact.pads={count: 3, width_deg: 20, first_deg: 10}", "mesh.n_theta=36"]])
+def test_the_dense_block_floor_never_exceeds_the_built_problem(extra):
+    """The floor that refuses without a symbolic analysis (limits.contact_rows_floor) is a lower bound of the
+    contact rows of the problem the solver builds (with and without pads, linear and quadratic)."""
+    from deckbridge.mesh import build_mesh
+    from deckbridge.solve import build_problem
+    m = load(None, SMALL + extra)
+    floor = limits.contact_rows_floor(m)
+    assert 0 < floor <= build_problem(m, build_mesh(m)).n_contacts
+
+
+def test_a_ring_too_large_for_its_dense_block_is_refused_without_the_symbolic_analysis(monkeypatch):
+    monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
+    m = load(None, ["mesh.n_theta=1000000", "mesh.n_z=2", "mesh.n_r=1"])
+    monkeypatch.setattr(limits, "symbolic_estimate", lambda *a, **k: pytest.fail("symbolic analysis run"))
+    monkeypatch.setattr(limits, "available_bytes", lambda: 64e9)
+    with pytest.raises(InputError) as err:
+        limits.check_memory(m)
+    assert "18,000,000 dofs" in str(err.value) and "(its dense contact block alone)" in str(err.value)
+    assert limits.contact_rows_floor(m) == 2 * 10**6         # 8 bytes x (2e6)^2 = 32 TB > 64 GB
