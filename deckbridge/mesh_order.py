@@ -24,7 +24,7 @@ import numpy as np
 import reference_solver as rs
 from reference_solver.elements import element_type
 
-from .face_areas import hrz_areas
+from .face_areas import contact_areas, hrz_areas
 EIGHT_NODE = ("c3d8i", "c3d8")           # solver names built by deckbridge.mesh's own 8-node builder
 
 # hexahedron corners (dk, di, dj): C3D8 order of deckbridge.mesh
@@ -155,7 +155,7 @@ def build_any_order(model):
 
     on_table = ijk[:, 0] == 0
     tfaces = tuple(surface_faces(blocks, on_table))
-    tnodes, tarea = hrz_areas(tfaces, nodes)
+    tnodes, tarea = contact_areas(tfaces, nodes)
     kc = pen.alpha * kbulk * tarea / h1
     one = lambda a: np.asarray(a)[:, None]  # noqa: E731
     table = _slave_set("table", nodes, tnodes, one(tnodes), one(tarea), one(kc), pen.k_normal,

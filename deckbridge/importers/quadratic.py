@@ -125,7 +125,7 @@ def quadratic_mesh(model, name: str, nodes, cells, base, top, stop_set, node_ids
     from reference_solver.face_weights import surface_faces
 
     from ..errors import ModelError
-    from ..face_areas import hrz_areas
+    from ..face_areas import contact_areas, hrz_areas
     from ..mesh_data import SkirtMesh, _slave_set
     from ..mesh_order import _elems_with_face
     et = element_type(name)
@@ -144,7 +144,7 @@ def quadratic_mesh(model, name: str, nodes, cells, base, top, stop_set, node_ids
                          "face-weighted law lifts pad nodes under N alone)")
     base_elems = _elems_with_face(et, cells, on_base)
     h1 = float(np.mean(np.ptp(nodes[cells[base_elems], 2], axis=1)))
-    tnodes, tarea = hrz_areas(tfaces, nodes)
+    tnodes, tarea = contact_areas(tfaces, nodes)
     one = lambda a: np.asarray(a)[:, None]  # noqa: E731
     table = _slave_set("table", nodes, tnodes, one(tnodes), one(tarea), one(pen.alpha * kbulk * tarea / h1),
                        pen.k_normal, normal=np.tile([0.0, 0.0, 1.0], (tnodes.size, 1)), clearance=np.zeros(tnodes.size))
