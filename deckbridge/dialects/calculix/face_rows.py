@@ -19,8 +19,9 @@ these faces the ccx reader reports, as the reference solver does for its face-we
   sigma_N = -CPRESS of the ``.frd`` CONTACT block (see :func:`f2f_table_sigma`).
 
 The table's force_n is then -sigma_N x the row's area (``area_m2`` = int Phi_a dA of the same hat basis,
-:func:`deckbridge.face_areas.contact_areas`), as the reference's face-weighted table, so Sum force_n = Sum r; the through-wall sigma_N (:func:`deckbridge.quantities.sigma_n_wall`) = -Sum force / Sum area per
-azimuth. The contact-law check (:mod:`deckbridge.readers._contact_law`) judges these rows by that pressure.
+:func:`deckbridge.face_areas.contact_areas`), as the reference's face-weighted table, so Sum force_n = Sum r;
+the through-wall sigma_N (:func:`deckbridge.quantities.sigma_n_wall`) = -Sum force / Sum area per azimuth. The
+contact-law check (:mod:`deckbridge.readers._contact_law`) judges these rows by that pressure.
 """
 
 from __future__ import annotations
