@@ -27,7 +27,8 @@ def test_run_with_ccx_on_a_hex20r_skirt(tmp_path):
     between corner and mid-side azimuths on one-element-thick C3D20R: ccx -14.26 / -14.41 MPa (0.6 % over the ring
     at its peak; with -M^-1 r on HRZ areas -14.36), reference/lagrange peak -15.06 (left out: its own alternation,
     was -13.61 with HRZ areas, 13 % short of N); at lambda 0.6 ccx/f2f vs reference/f2f through the wall 134 kPa =
-    0.47 % of the peak; tet10 (not run here, 85 s) completes too (ccx/f2f vs reference/f2f peak -32.0 / -32.0 MPa at 0.8)."""
+    0.47 % of the peak; tet10 (not run here, 85 s) completes too (ccx/f2f vs reference/f2f peak -32.0 / -32.0 MPa
+    at 0.8)."""
     model = load(None, MESH)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")              # quadratic-mesh 'unverified' and deck-left-out notes
