@@ -8,9 +8,9 @@ warning (CalculiX has no 27-node brick). Node orders are checked geometrically
 (:func:`.node_order.node_order_problem`, Nastran's mid-side order permuted first); a wrong one is refused in
 one line naming the element. The contact data are those of the parametric skirt in any order
 (:func:`deckbridge.mesh_order.build_any_order`): table faces = the element faces whose nodes are all in the
-base set, positive HRZ nodal areas, k_c = alpha K A / h (h the mean axial size of the base elements),
-top weights = HRZ areas of the faces in the top set, stop = the base nodes on the innermost (outermost) base
-circle, line weights of the base faces' edges on it (Simpson on a quadratic edge) x h / 2. Every table / stop
+base set, positive nodal areas (:func:`deckbridge.face_areas.contact_areas`), k_c = alpha K A / h (h the mean
+axial size of the base elements), top weights = HRZ areas of the faces in the top set, stop = the base nodes
+on the innermost (outermost) base circle, line weights of the base faces' edges on it (Simpson on a quadratic edge) x h / 2. Every table / stop
 node's azimuth is its through-wall row's (:func:`reference_solver.azimuths.azimuth_clusters`, tolerance 1e-3
 of the smallest element's angular span), so a Gmsh file's round-off does not split a row.
 """
