@@ -150,8 +150,9 @@ def quadratic_face_slopes(mesh, faces, k_node: np.ndarray) -> np.ndarray:
     """Face-to-face penalty slope K [Pa/m, SI] of each quadratic slave face of ``faces`` (:func:`base_faces`):
     sum_i a_i (k_i / A_i) / sum_i a_i with a_i = int N_i dA the face's consistent shares (corners -1/12 of an
     8-node face, 0 of a 6-node face), k_i [N/m] per table row (the model's k_c, or k_t for the stick slope) and
-    A_i the node's tributary (HRZ) area: a uniform penetration d then gives the face the pressure K d, the
-    model's k_i d / A_i where that ratio is the same on every node (alpha K / h1 for the model's own penalty)."""
+    A_i the node's area (``mesh.table.area``, :func:`deckbridge.face_areas.contact_areas`): a uniform penetration
+    d then gives the face the pressure K d, the model's k_i d / A_i where that ratio is the same on every node
+    (alpha K / h1 for the model's own penalty)."""
     from reference_solver.face_weights import face_shares
     tab = mesh.table
     row = np.full(mesh.n_nodes, -1)

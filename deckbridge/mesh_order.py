@@ -24,7 +24,7 @@ import numpy as np
 import reference_solver as rs
 from reference_solver.elements import element_type
 
-from .face_areas import hrz_areas
+from .face_areas import contact_areas, hrz_areas
 EIGHT_NODE = ("c3d8i", "c3d8")           # solver names built by deckbridge.mesh's own 8-node builder
 
 # hexahedron corners (dk, di, dj): C3D8 order of deckbridge.mesh
@@ -125,8 +125,9 @@ def _elems_with_face(et, cells: np.ndarray, on: np.ndarray) -> np.ndarray:
 
 
 def build_any_order(model):
-    """The skirt's :class:`SkirtMesh` in a quadratic or tetrahedral type: slave areas are positive (HRZ
-    lumping of each face's M on the table and top, Simpson / trapezoid line weights x h_1 / 2 on the stop's
+    """The skirt's :class:`SkirtMesh` in a quadratic or tetrahedral type: slave areas are positive (table:
+    :func:`deckbridge.face_areas.contact_areas`, int Phi_a dA of the hat basis on 8-/6-node faces; top: HRZ
+    lumping of each face's M; Simpson / trapezoid line weights x h_1 / 2 on the stop's
     base circle); penalty per node k_c = alpha K A / h_1 (table), 2 alpha K A / (t / n_r) (stop), the 8-node
     mesh's alpha A^2 K / V on a regular cell; top weights = the HRZ areas of the top faces."""
     from reference_solver.face_weights import surface_faces
@@ -155,7 +156,7 @@ def build_any_order(model):
 
     on_table = ijk[:, 0] == 0
     tfaces = tuple(surface_faces(blocks, on_table))
-    tnodes, tarea = hrz_areas(tfaces, nodes)
+    tnodes, tarea = contact_areas(tfaces, nodes)
     kc = pen.alpha * kbulk * tarea / h1
     one = lambda a: np.asarray(a)[:, None]  # noqa: E731
     table = _slave_set("table", nodes, tnodes, one(tnodes), one(tarea), one(kc), pen.k_normal,

@@ -5,6 +5,16 @@ functions and nothing else. Conventions: sigma_N < 0 compression, > 0 tension (o
 a penalty model is kept as sigma_N > 0, never clipped); force_n > 0 compressive; theta [deg] in
 [0, 360); wall ring 0 = inner face.
 
+A table row's area ``area_m2`` [m^2] and sigma_N per face type (issue 23; the area's one definition is
+:func:`deckbridge.face_areas.contact_areas`): 4-node faces (8-node solids) the tributary area, sigma_N =
+-force / area; 3-node faces the HRZ (= tributary) area, the same; 8- and 6-node faces (hex20, hex20r, tet10,
+wedge15, any source: reference face-weighted Lagrange and face penalty, ccx mortar) A_a = int Phi_a dA of the
+non-negative hat multiplier basis Phi (``reference_solver.face_weights.hat_mortar``) and sigma_N = -lambda_a,
+the nodal value of the pressure field sum lambda_a Phi_a with lambda = D^-T r (D_ab = int Phi_a N_b dA, r the
+nodal contact forces [N]); force_n = -sigma_N x area, so Sum force_n = Sum r (= N under N) on every face type
+(ccx face-to-face on quadratic faces: sigma_N = -CPRESS, its resultant within ccx's own projection). Node
+values are these nodal values; through-wall values -Sum force_n / Sum area of the azimuth's rows.
+
 Equilibrium check (what it compares): the corner-extrapolated base-wall sigma_zz (Gauss points of
 the bottom element row extrapolated to the base corners, averaged over the elements sharing a node,
 trapezoid mean through the wall) against the through-wall contact sigma_N = -Sum force / Sum area.
@@ -53,10 +63,11 @@ class Quantity:
 
 
 DEFINITIONS = {q.key: q for q in [
-    Quantity("sigma_n_wall_pa", "Pa", "area (tributary areas of the through-wall nodes)",
+    Quantity("sigma_n_wall_pa", "Pa", "area (row areas of the through-wall nodes: tributary; hat int Phi dA on 8-/6-node faces)",
              "contact sigma_N through the wall at one azimuth = -Sum force / Sum area of its table nodes"),
     Quantity("sigma_n_node_pa", "Pa", "none (one node)",
-             "contact sigma_N of one slave node = -force / its tributary area (inner, mid, outer)"),
+             "contact sigma_N of one slave node = -force / its area (inner, mid, outer); on 8-/6-node faces the "
+             "pressure field's nodal value -lambda (hat basis)"),
     Quantity("peak_sigma_n_wall_pa", "Pa", "area", "most compressive through-wall sigma_N along the azimuth"),
     Quantity("peak_sigma_n_node_pa", "Pa", "none", "most compressive sigma_N of any single table node"),
     Quantity("line_load_n_per_m", "N/m", "arc length at the mid-wall radius",

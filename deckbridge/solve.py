@@ -237,7 +237,7 @@ def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFr
     }), til(p.contact_area))
     df["force_n"] = sol.force.ravel()           # the solver's own (> 0 compressive); sigma_n = -force / area
     if p.contact_weighting != "nodal":          # face-weighted: sigma_n is the projected pressure (face_law.py);
-        df["force_n"] = -df["sigma_n_pa"] * df["area_m2"]   # the table's force: that pressure on the HRZ area
+        df["force_n"] = -df["sigma_n_pa"] * df["area_m2"]   # the table's force: that pressure on its hat area
     return conform(df)
 
 

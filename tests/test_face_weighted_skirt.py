@@ -77,13 +77,15 @@ def test_friction_refused_on_quadratic_faces():
 
 def test_solve_model_writes_the_projected_pressure_on_quadratic_faces():
     """The contact table of a hex20r skirt: sigma_n_pa is the law's pressure (-T^-1 r), force_n that pressure on
-    the HRZ area (the table's contract), the reaction N; every table node closed under N alone."""
+    the row's hat area int Phi_a dA (the table's contract), adding up to the reaction N (1e-9); every table node
+    closed under N alone."""
     m = load(None, ["mesh.element=tet10", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1", "steps.lambda_max=0.2",
                     "steps.increments=1", "outputs.vtu=false"])
     df, summary = solve_model(m, "lagrange")
     d = df[(df.surface == "table") & (df.step == 1)]
     assert (d.status == "closed").all()
     np.testing.assert_allclose(d.sigma_n_pa * d.area_m2, -d.force_n, rtol=1e-12)
+    assert d.force_n.sum() == pytest.approx(m.loads.N, rel=1e-9)
     assert summary["reaction_force_n"]["1"][2] == pytest.approx(m.loads.N, rel=1e-9)
     exact = -m.loads.N / (2 * np.pi * m.geometry.radius * m.geometry.thickness)
     assert np.abs(d.sigma_n_pa / exact - 1).max() < 0.05            # coarse mesh: 0.98-1.02 measured on 24 x 3 x 2

@@ -8,9 +8,9 @@ warning (CalculiX has no 27-node brick). Node orders are checked geometrically
 (:func:`.node_order.node_order_problem`, Nastran's mid-side order permuted first); a wrong one is refused in
 one line naming the element. The contact data are those of the parametric skirt in any order
 (:func:`deckbridge.mesh_order.build_any_order`): table faces = the element faces whose nodes are all in the
-base set, positive HRZ nodal areas, k_c = alpha K A / h (h the mean axial size of the base elements),
-top weights = HRZ areas of the faces in the top set, stop = the base nodes on the innermost (outermost) base
-circle, line weights of the base faces' edges on it (Simpson on a quadratic edge) x h / 2. Every table / stop
+base set, positive nodal areas (:func:`deckbridge.face_areas.contact_areas`), k_c = alpha K A / h (h the mean
+axial size of the base elements), top weights = HRZ areas of the faces in the top set, stop = the base nodes
+on the innermost (outermost) base circle, line weights of the base faces' edges on it (Simpson on a quadratic edge) x h / 2. Every table / stop
 node's azimuth is its through-wall row's (:func:`reference_solver.azimuths.azimuth_clusters`, tolerance 1e-3
 of the smallest element's angular span), so a Gmsh file's round-off does not split a row.
 """
@@ -125,7 +125,7 @@ def quadratic_mesh(model, name: str, nodes, cells, base, top, stop_set, node_ids
     from reference_solver.face_weights import surface_faces
 
     from ..errors import ModelError
-    from ..face_areas import hrz_areas
+    from ..face_areas import contact_areas, hrz_areas
     from ..mesh_data import SkirtMesh, _slave_set
     from ..mesh_order import _elems_with_face
     et = element_type(name)
@@ -144,7 +144,7 @@ def quadratic_mesh(model, name: str, nodes, cells, base, top, stop_set, node_ids
                          "face-weighted law lifts pad nodes under N alone)")
     base_elems = _elems_with_face(et, cells, on_base)
     h1 = float(np.mean(np.ptp(nodes[cells[base_elems], 2], axis=1)))
-    tnodes, tarea = hrz_areas(tfaces, nodes)
+    tnodes, tarea = contact_areas(tfaces, nodes)
     one = lambda a: np.asarray(a)[:, None]  # noqa: E731
     table = _slave_set("table", nodes, tnodes, one(tnodes), one(tarea), one(pen.alpha * kbulk * tarea / h1),
                        pen.k_normal, normal=np.tile([0.0, 0.0, 1.0], (tnodes.size, 1)), clearance=np.zeros(tnodes.size))

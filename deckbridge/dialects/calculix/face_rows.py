@@ -6,18 +6,22 @@ reading sigma_N = -F / A (4-node faces) would call every corner of a pressed qua
 these faces the ccx reader reports, as the reference solver does for its face-weighted law
 (``reference_solver/face_law.py``, ``deckbridge/solve.py``), the pressure field's nodal values:
 
-- mortar deck (``*_ccx_lagrange.inp``): the L2-projected pressure sigma_N = -M^-1 r [Pa] over the table surface,
-  r_i = RF_i . n [N] the slave node's consistent contact force (RF of the ``.dat`` ``*NODE PRINT`` of the table
-  slave nodes, > 0 pressing the skirt onto the table) and M = int N_i N_j dA the consistent face matrix of the
-  table's faces (:func:`reference_solver.face_weights.face_matrix`); the reference's face-weighted Lagrange
-  reports the same quantity (its field E lambda = M^-1 D^T lambda). Without a model (no faces to build M
-  from) the reader takes ccx's own nodal pressure -CPRESS instead.
+- mortar deck (``*_ccx_lagrange.inp``): the pressure of the reference's face-weighted laws, sigma_N = -D^-T r
+  [Pa] over the table surface, r_i = RF_i . n [N] the slave node's consistent contact force (RF of the ``.dat``
+  ``*NODE PRINT`` of the table slave nodes, > 0 pressing the skirt onto the table) and D_ab = int Phi_a N_b dA
+  the same mortar matrix as the reference's (:func:`reference_solver.face_weights.face_matrix` with
+  ``reference_solver.face_law.MULTIPLIER_BASIS``, the non-negative hat basis Phi): ccx's nodal forces read as
+  the multipliers lambda = D^-T r of the field sum lambda_a Phi_a, node by node the quantity the reference's
+  face-weighted Lagrange and face penalty report (their -E D^-T r, E = I for the hat basis). Exact (-p) for a
+  uniform pressure p. Without a model (no faces to build D from) the reader takes ccx's own nodal pressure
+  -CPRESS instead.
 - face-to-face deck (``*_ccx_f2f.inp``, master a wide C3D8 ring, no master node under each slave node):
   sigma_N = -CPRESS of the ``.frd`` CONTACT block (see :func:`f2f_table_sigma`).
 
-The table's force_n is then -sigma_N x the node's HRZ area (``area_m2``), as the reference's face-weighted
-table; the through-wall sigma_N (:func:`deckbridge.quantities.sigma_n_wall`) = -Sum force / Sum area per
-azimuth. The contact-law check (:mod:`deckbridge.readers._contact_law`) judges these rows by that pressure.
+The table's force_n is then -sigma_N x the row's area (``area_m2`` = int Phi_a dA of the same hat basis,
+:func:`deckbridge.face_areas.contact_areas`), as the reference's face-weighted table, so Sum force_n = Sum r;
+the through-wall sigma_N (:func:`deckbridge.quantities.sigma_n_wall`) = -Sum force / Sum area per azimuth. The
+contact-law check (:mod:`deckbridge.readers._contact_law`) judges these rows by that pressure.
 """
 
 from __future__ import annotations
@@ -32,13 +36,17 @@ QUADRATIC_TYPES = ("C3D20", "C3D20R", "C3D10", "C3D15")     # ccx element types 
 
 
 class TableProjection:
-    """-M^-1 r of the table rows of a slave table ``node_ids`` / ``table`` (bool per row) on ``mesh``'s table
-    faces: :meth:`sigma` maps the rows' normal forces r [N] (> 0 compressive) to sigma_N [Pa] (< 0 compression).
-    M is factorised once per job."""
+    """-D^-T r of the table rows of a slave table ``node_ids`` / ``table`` (bool per row) on ``mesh``'s table
+    faces (D: the reference's mortar matrix, module doc): :meth:`sigma` maps the rows' normal forces r [N]
+    (> 0 compressive) to sigma_N [Pa] (< 0 compression). D is factorised once per job."""
 
     def __init__(self, mesh, node_ids: np.ndarray, table: np.ndarray):
+        from reference_solver.face_law import MULTIPLIER_BASIS
         from reference_solver.face_weights import face_matrix
-        surf, M = face_matrix(mesh.nodes, mesh.table_faces)
+        if MULTIPLIER_BASIS != "hat":       # the modified basis reports E lambda: not this reader's quantity
+            raise DeckbridgeError(f"reference_solver.face_law.MULTIPLIER_BASIS {MULTIPLIER_BASIS!r}: the ccx "
+                                  "mortar reader projects with the hat basis only")
+        surf, M = face_matrix(mesh.nodes, mesh.table_faces, modified=MULTIPLIER_BASIS)
         pos = {int(n): k for k, n in enumerate(mesh_node_ids(mesh, surf))}
         rows = np.flatnonzero(table)
         missing = [int(node_ids[i]) for i in rows if int(node_ids[i]) not in pos]
@@ -53,7 +61,7 @@ class TableProjection:
         """sigma_N [Pa] of the table rows (in row order) from their normal forces ``r_rows`` [N]."""
         r = np.zeros(self.order.size)
         r[self.order] = r_rows
-        return -self.lu.solve(r)[self.order]
+        return -self.lu.solve(r, trans="T")[self.order]
 
 
 def f2f_table_sigma(cpress: dict[int, float], node_ids: np.ndarray) -> np.ndarray:

@@ -183,7 +183,7 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
         raise DeckbridgeError(f"{str(frd if frd.is_file() else stem)!r}: no CONTACT block (CPRESS) of a face-to-face "
                               "job on quadratic faces in the .frd")
     project = (TableProjection(mesh, sl.node, mortar_rows) if quad and model is not None and mortar_rows.any()
-               and table_from == "rf" else None)     # quadratic mortar: -M^-1 r (face_rows.py)
+               and table_from == "rf" else None)     # quadratic mortar: -D^-T r (face_rows.py)
     if gap_rows.any() and not forces:
         raise DeckbridgeError(f"{str(dat if dat.is_file() else stem)!r}: no gap-element forces (*NODE PRINT RF "
                               "of the grounded nodes) in the .dat")
