@@ -151,18 +151,57 @@ def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
         penalty_k=law.penalty_k, step=np.array([r.step for r in rows]), increment=np.array([r.index for r in rows]),
         load_factor=np.array([r.load_factor for r in rows]), coeffs=C, sigma_n=sigma,
         liftoff_load_factor=None if lift is None else float(lift[0]), liftoff_row=None if lift is None else lift[1],
-        liftoff_method=None if lift is None else lift[2], gross_slip_load_factor=slide, **arrays)
+        liftoff_method=None if lift is None else lift[2], gross_slip_load_factor=slide, **arrays,
+        path_states=[(r.load_factor, r.state) for r in rows if r.step == 2] if law.stateful else None)
     if recover:
         sol.recover_step_ends(system, law.retained(states))
     sol.wall_time_s = time.perf_counter() - t0
     return sol
 
 
+def _restarted_state_at(system, sol: Solution, base, ramp) -> Callable[[float], tuple]:
+    """``state_at(lam)`` of a path-dependent law along ``sol``: one increment (cut back like
+    :func:`solve_path`'s, gross slip raised the same way) from the converged state at the largest load factor
+    below ``lam`` among ``sol``'s step-2 increments (never from another search point: a chain of them would
+    make the state depend on the search's order, not on ``lam`` alone)."""
+    law = make_law(system, sol.method, sol.k_factor or 1.0, sol.algorithm)
+    cb = system.coeffs({"N": 1.0} if base is None else base)
+    cr = system.coeffs({"T": 1.0, "M": 1.0} if ramp is None else ramp)
+    co = lambda lam: cb + lam * cr  # noqa: E731
+    known = sol.path_states
+
+    def run(a_st: State, lam: float, a: float, guess) -> State:
+        try:
+            return _advance(law, a_st, co, lam, a, 0, guess)
+        except Unbounded:
+            raise no_equilibrium(2, lam) from None
+
+    def state_at(lam: float):
+        a, a_st = max(((lf, st) for lf, st in known if lf < lam), key=lambda r: r[0])
+        st, slide = reach(run, a_st, a, lam, None, abs(lam), lambda b: no_equilibrium(2, b))
+        if slide is not None:
+            err = GrossSlip(f"step 2, load factor {lam:.6g}: the load slides the body (gross slip from "
+                            f"load factor {slide:.6g}; friction cannot carry the tangential load)")
+            err.load_factor = slide
+            raise err from None
+        if law.tips_open and not np.any(st.active):
+            raise ReferenceSolverError(f"step 2, load factor {lam:.6g}: the load tips the body over "
+                                       f"(every contact row is open)")
+        arr = law.arrays([st], co(lam)[None])
+        return arr["gap"][0], arr["force"][0], arr["closed"][0]
+    return state_at
+
+
 def section_onset(system, sol: Solution, groups: list[np.ndarray], *, base: Mapping[str, float] | None = None,
                   ramp: Mapping[str, float] | None = None, tol: float = 1e-9) -> tuple[float | None, int | None]:
     """The whole-section onset of :func:`reference_solver.onset.section_onset` along ``sol``: (lambda, group
     index), each state the end of a one-increment path with ``sol``'s method, k-factor and algorithm
-    (``base``/``ramp`` as given to :func:`solve_path`, defaults the same)."""
+    (``base``/``ramp`` as given to :func:`solve_path`, defaults the same). A path-dependent law (friction,
+    ``sol.path_states`` kept): each state is one increment from the converged state at the largest load
+    factor below it among ``sol``'s increments (the bracket's lower end) instead of from lambda = 0."""
+    if sol.path_states:
+        return _section_onset(system, sol, groups, _restarted_state_at(system, sol, base, ramp), tol)
+
     def state_at(lam: float):
         s = solve_path(system, sol.method, sol.k_factor or 1.0, base=base, ramp=ramp, lambda_max=lam, increments=1,
                        algorithm=sol.algorithm, onset="off", recover=False)

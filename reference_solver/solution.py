@@ -68,6 +68,9 @@ class Solution:
     augmentations: np.ndarray | None = None       # (ni,) multiplier updates of each increment
     penetration: np.ndarray | None = None         # (ni,) largest penetration max(0, -gap) at its end [m]
     penetration_tol: float | None = None          # the penetration tolerance it stopped at [m]
+    # a path-dependent law (friction): each step-2 increment's (load factor, converged law State), which the
+    # whole-section onset (:func:`reference_solver.path.section_onset`) restarts from; None otherwise
+    path_states: list | None = field(default=None, repr=False)
 
     def friction_check(self, problem, mu: float) -> dict:
         """Compare each spring (tangential) force with mu times the normal force at its node.

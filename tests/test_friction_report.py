@@ -210,8 +210,8 @@ def test_a_solution_that_breaks_the_coulomb_law_is_said_on_the_console(tmp_path,
 
     # The same command again, its solver output broken by hand. The solver is not run a second time: the
     # same call (asserted) gets the first run's solution (a copy), and the whole-section onset the first run
-    # found (a bisection of 36 friction solves, ~95 % of the time; it reads gaps and normal forces only,
-    # which the row broken here leaves as they were) - the rest of `solve` runs on them as before.
+    # found (36 friction states, each one increment from the path's state below it; it reads gaps and
+    # normal forces only, which the row broken here leaves as they were) - the rest of `solve` runs on them.
     def one_row_beyond_the_cone(*a, **kw):
         assert (a[1:], _without_progress(kw)) == first["call"]
         sol = copy.deepcopy(first["path"])
