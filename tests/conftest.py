@@ -12,7 +12,14 @@ rather than one waiting on a long module at the end. Only the order and the work
 as written.
 """
 
+import os
 from pathlib import Path
+
+# Two xdist workers share the CI's two cores: each worker and the CalculiX jobs it starts get one OpenMP thread
+# (unless the caller set one). Measured: the scenario matrix's TestCase06 ccx run took 566 s with ccx on two
+# threads beside one busy core, 66 s on one thread (OpenMP threads spin-waiting on a descheduled partner).
+if os.environ.get("PYTEST_XDIST_WORKER") and "OMP_NUM_THREADS" not in os.environ:
+    os.environ["OMP_NUM_THREADS"] = "1"
 
 import pytest
 
