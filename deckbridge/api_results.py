@@ -141,9 +141,10 @@ class Solution:
         ``szz_mean_pa``, ``szz_bending_pa``, base area ``area_m2``), None when it cannot be recovered. Recovered
         on first use (one solve for every state) and kept in :attr:`wall`."""
         if self.wall is None and self._solved is not None:
+            from .studies.tasks import has_factor
             from .wall_stress import reference_wall
             mesh, system, sol = self._solved
-            if getattr(system, "schur", True) is not None:        # a friction system keeps no Schur block
+            if has_factor(system):                # a sweep's system may be stripped of its factor (a friction one: in .base)
                 self.wall = plain_frame(reference_wall(system, mesh, sol))
         if self.wall is None or self.wall.empty:
             return None

@@ -114,6 +114,8 @@ def test_friction_table_carries_t_lambda_in_its_direction(model):
     assert (last["fn_x_n"] + last["ft_x_n"]).sum() == pytest.approx(1.0e5 * lam * math.cos(a), rel=1e-6)
     assert (last["fn_y_n"] + last["ft_y_n"]).sum() == pytest.approx(1.0e5 * lam * math.sin(a), rel=1e-6)
     assert set(last["stick_status"]) >= {"stick", "open"}
+    ws = res.wall_stress(0)             # a friction solve recovers its base wall too: it carries N (measured 4.2e-4
+    assert (ws["szz_mean_pa"] * ws["area_m2"]).sum() == pytest.approx(-2.0e6, rel=2e-3)   # off: nodal sigma_zz
 
 
 def test_plot_draws_the_table_and_paraview_writes_every_state(model, tmp_path):
