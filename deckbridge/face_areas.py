@@ -32,7 +32,7 @@ def contact_areas(faces, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The area A_a [m^2] (> 0) of each contact row a of a surface ``faces`` [(face type, conn), ...], the one
     definition of ``mesh.table.area`` on every face type: on 8- and 6-node faces A_a = int Phi_a dA, Phi_a the
     non-negative hat multiplier basis of the face-weighted laws (:func:`reference_solver.face_weights.hat_mortar`,
-    ``reference_solver.face_law.MULTIPLIER_BASIS`` 'hat'), i.e. the row sums of their mortar matrix D. Their
+    ``face_matrix(..., mortar=True)``), i.e. the row sums of their mortar matrix D. Their
     sigma_N at a row is its multiplier -lambda_a (the pressure field sum lambda_a Phi_a), so
     Sum_a sigma_N,a A_a = -(D^T lambda).1 = -Sum of the nodal contact forces exactly (= -N under N alone).
     Regular quad8: corners A/24, mid-sides 5 A/24; tri6: corners A/12, mid-sides A/4. 4- and 3-node faces keep

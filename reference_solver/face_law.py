@@ -3,9 +3,9 @@
 Nodal laws put the sign condition on nodal forces r [N]; on 8-node faces a uniform pressure gives the corners
 -1/12 of p A (6-node faces: 0), so they open every corner at zero load (``docs/elements.md``). Here the unknown
 on each surface is a pressure field p = sum_b lambda_b Phi_b [Pa] (lambda > 0 compressive) in a non-negative
-multiplier basis: the hat basis of :func:`reference_solver.face_weights.hat_mortar` (``MULTIPLIER_BASIS``
-'hat'; 'modified': Phi = Q N of :func:`reference_solver.face_weights.multiplier_basis`, positive shares but
-negative in parts of the face, so rows could close while the surface around them was open), with
+multiplier basis: the hat basis of :func:`reference_solver.face_weights.hat_mortar` (the earlier modified
+basis Phi = Q N of :func:`reference_solver.face_weights.multiplier_basis` had positive shares but was negative
+in parts of the face, so rows could close while the surface around them was open), with
 
     D_ab = int Phi_a N_b dA [m^2],   nodal forces r = D^T lambda,   weighted gaps g~ = D g [m^3]
 
@@ -15,8 +15,8 @@ D = their ``contact_area``. D is invertible, so the condensed LCP w = S g + q >=
 
     lambda = S~ g~ + q~ >= 0,  g~ >= 0,  lambda . g~ = 0,   S~ = D^-T S D^-1 (SPD),  q~ = D^-T q,
 
-solved by the nodal law's own LCP algorithms. sigma_N = -E lambda, the field's nodal values (hat: E = I;
-modified: E = Q^T per face). With Phi = N (D = M, symmetric) a uniform lift would give g~ < 0 at 8-node
+solved by the nodal law's own LCP algorithms. sigma_N = -lambda: with the hat basis a node's pressure is its
+own multiplier. With Phi = N (D = M, symmetric) a uniform lift would give g~ < 0 at 8-node
 corners: the base could not lift. Chosen by ``Problem.contact_weighting`` ('nodal' default | 'face' |
 'face-lumped'); Lagrange only, frictionless (:func:`reference_solver.laws.make_law` refuses the rest in one line).
 """
@@ -30,12 +30,11 @@ import scipy.sparse.linalg as spla
 from .face_weights import face_matrix, surface_faces
 
 WEIGHTINGS = ("nodal", "face", "face-lumped")
-MULTIPLIER_BASIS = "hat"          # 'hat' (non-negative, face_weights.hat_mortar) | 'modified' (Popp et al.)
 
 
 def weighting_matrix(p) -> sp.csc_matrix:
     """D (nc x nc) [m^2] of a problem's contact rows: the mortar matrix int Phi_a N_b dA of each contact surface
-    (:func:`reference_solver.face_weights.face_matrix` with ``MULTIPLIER_BASIS``; 'face-lumped': the row sums
+    (:func:`reference_solver.face_weights.face_matrix` with ``mortar``: the hat basis; 'face-lumped': the row sums
     of M) on the rows of that surface whose nodes lie on one of its faces, ``contact_area`` on the diagonal of
     every other."""
     nc = p.n_contacts
@@ -49,7 +48,7 @@ def weighting_matrix(p) -> sp.csc_matrix:
         faces = surface_faces(p.blocks, on)
         if not faces:
             continue
-        surf, M = face_matrix(p.nodes, faces, lumped=lumped, modified=False if lumped else MULTIPLIER_BASIS)
+        surf, M = face_matrix(p.nodes, faces, lumped=lumped, mortar=not lumped)
         row_of = np.full(p.n_nodes, -1)
         row_of[p.contact_nodes[idx]] = idx
         r = row_of[surf]                                  # every surf node is a row of this surface
@@ -61,32 +60,6 @@ def weighting_matrix(p) -> sp.csc_matrix:
     return sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nc, nc))
 
 
-def field_matrix(p) -> sp.csr_matrix:
-    """E (nc x nc): the nodal values of the pressure field sum_b lambda_b Phi_b from the multipliers lambda
-    (E = Q^T per face, :func:`reference_solver.face_weights.multiplier_basis`): a corner's value is its own
-    lambda, a mid-side's (1 - 2 alpha) lambda_m + alpha (lambda_c1 + lambda_c2); identity off 8-/6-node faces."""
-    from .face_weights import multiplier_basis
-    entries: dict = {}
-    if p.contact_weighting == "face" and MULTIPLIER_BASIS == "modified":
-        row_of = np.full(p.n_nodes, -1)
-        for label in np.unique(p.contact_surface):
-            idx = np.flatnonzero(p.contact_surface == label)
-            on = np.zeros(p.n_nodes, bool)
-            on[p.contact_nodes[idx]] = True
-            row_of[p.contact_nodes[idx]] = idx
-            for ftype, conn in surface_faces(p.blocks, on):
-                Qt = multiplier_basis(ftype).T
-                a, b = np.nonzero(Qt)
-                for face in row_of[conn]:
-                    for i, j in zip(a, b):
-                        entries[(face[i], face[j])] = Qt[i, j]   # shared edges set the same value
-    nc = p.n_contacts
-    for i in range(nc):
-        entries.setdefault((i, i), 1.0)
-    (r, c), v = np.array(list(entries)).T, np.array(list(entries.values()))
-    return sp.csr_matrix((v, (r, c)), shape=(nc, nc))
-
-
 class FaceWeighting:
     """The transformation of one condensed system by D = :func:`weighting_matrix`: S~ = D^-T S D^-1 and the maps
     between (g~, lambda) and (g, r): g~ = D g, r = D^T lambda."""
@@ -94,9 +67,6 @@ class FaceWeighting:
     def __init__(self, problem, Sc: np.ndarray):
         self.D = weighting_matrix(problem)
         self._lu = spla.splu(self.D)
-        self.E = field_matrix(problem)
-        E = self.E.tocsr()
-        self.own = (np.diff(E.indptr) == 1) & (E.diagonal() == 1.0)   # rows whose field value is their own lambda
         Y = self.to_pressure(np.asarray(Sc))              # D^-T S
         St = self.to_pressure(Y.T).T                       # (D^-T S^T D^-1)^T = D^-T S D^-1 (S symmetric)
         self.S = 0.5 * (St + St.T)

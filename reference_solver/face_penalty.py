@@ -151,9 +151,9 @@ class FacePenaltyLaw(ContactLaw):
         self.G, self.GT = self.fi.G, self.fi.G.T.tocsr()
         self._field = None
         if self.fi.quadratic and p.contact_weighting == "face":
-            from .face_law import field_matrix, weighting_matrix
+            from .face_law import weighting_matrix
             import scipy.sparse.linalg as spla
-            self._field = (spla.splu(weighting_matrix(p).tocsc()), field_matrix(p))
+            self._field = spla.splu(weighting_matrix(p).tocsc())
 
     @property
     def penalty_k(self):
@@ -212,11 +212,11 @@ class FacePenaltyLaw(ContactLaw):
         return self.checked(u, force, np.where(self.fi.on_face, pressed, g <= 0), it)
 
     def sigma_n(self, force):
-        """-r / contact_area [Pa]; with 8-/6-node faces and 'face' weighting the projected field -E D^-T r."""
+        """-r / contact_area [Pa]; with 8-/6-node faces and 'face' weighting the projected field -D^-T r (hat basis:
+        a node's pressure is its own multiplier, face_law.py)."""
         if self._field is None:
             return super().sigma_n(force)
-        lu, E = self._field
-        return 0.0 - (E @ lu.solve(np.asarray(force, float).T, trans="T")).T
+        return 0.0 - self._field.solve(np.asarray(force, float).T, trans="T").T
 
 
 WEIGHTED_LAWS["face", "penalty"] = FacePenaltyLaw

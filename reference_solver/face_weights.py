@@ -125,23 +125,21 @@ def hat_mortar(face: FaceType, xyz: np.ndarray) -> np.ndarray:
 
 
 def face_matrix(nodes: np.ndarray, faces, lumped: bool = False,
-                modified: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
+                mortar: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
     """Surface nodes (m,) and the assembled M (m x m, CSR) [m^2] of ``faces`` [(face type, conn), ...]
-    (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead; ``modified``: the mortar matrix
-    D_ab = int Phi_a N_b dA (not symmetric on 8-/6-node faces) of the :func:`multiplier_basis` (True or
-    'modified') or of the hat basis ('hat', :func:`hat_mortar`; 4-/3-node faces keep M)."""
+    (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead; ``mortar``: the mortar matrix
+    D_ab = int Phi_a N_b dA (not symmetric) of the hat basis on 8-/6-node faces (:func:`hat_mortar`; 4-/3-node
+    faces keep M)."""
     if not faces:
         raise ReferenceSolverError("contact surface: no element face has all its nodes on it")
     nodes = np.asarray(nodes, float)
     surf = np.unique(np.concatenate([c.ravel() for _, c in faces]))
     rows, cols, vals = [], [], []
     for ftype, conn in faces:
-        if modified == "hat" and ftype.n_nodes > ftype.n_corners:
+        if mortar and ftype.n_nodes > ftype.n_corners:
             Me = hat_mortar(ftype, nodes[conn])
         else:
             Me = face_mass(ftype, nodes[conn])
-            if modified:
-                Me = np.einsum("ab,fbc->fac", multiplier_basis(ftype), Me)
         loc = np.searchsorted(surf, conn)
         k = conn.shape[1]
         rows.append(np.repeat(loc, k, axis=1).ravel())

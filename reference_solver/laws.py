@@ -177,11 +177,9 @@ class LagrangeLaw(ContactLaw):
                             penetration=float(max(0.0, -g.min(initial=0.0))))
 
     def onset_watch(self, watch):
-        """Face-weighted: the rows where the pressure field's nodal value is the row's own multiplier (every row
-        with the hat basis; with the modified one the corners and rows off 8-/6-node faces: a mid-side's value
-        (1 - 2 alpha) lambda_m + alpha (lambda_c1 + lambda_c2) vanishes only once its corners' rows are open, so
-        the first node whose pressure reaches 0 is one of these; face_law.py)."""
-        return watch if self.weighted is None else watch & self.weighted.own
+        """The watched rows whose opening is a liftoff onset: every one (face-weighted with the hat basis a row's
+        pressure is its own multiplier, face_law.py)."""
+        return watch
 
     def lifted(self, st, watch):
         """Bool per row: watched and lifted. Face-weighted: an :meth:`onset_watch` row that is open (lambda = 0,
@@ -192,11 +190,10 @@ class LagrangeLaw(ContactLaw):
         return self.onset_watch(watch) & ~st.active
 
     def sigma_n(self, force):
-        """Face-weighted: the pressure field's nodal values -E lambda, lambda = D^-T r (face_law.py)."""
+        """Face-weighted: the pressure field's nodal values -lambda, lambda = D^-T r (face_law.py)."""
         if self.weighted is None:
             return super().sigma_n(force)
-        W = self.weighted
-        return 0.0 - (W.E @ W.to_pressure(np.asarray(force, float).T)).T
+        return 0.0 - self.weighted.to_pressure(np.asarray(force, float).T).T
 
     def track(self, lo, lam_lo, lam_hi, dcoeffs, watch):
         """Exact onset: the piecewise-linear path of the LCP; face-weighted, in its own variables (weighted gaps

@@ -10,9 +10,9 @@ these faces the ccx reader reports, as the reference solver does for its face-we
   [Pa] over the table surface, r_i = RF_i . n [N] the slave node's consistent contact force (RF of the ``.dat``
   ``*NODE PRINT`` of the table slave nodes, > 0 pressing the skirt onto the table) and D_ab = int Phi_a N_b dA
   the same mortar matrix as the reference's (:func:`reference_solver.face_weights.face_matrix` with
-  ``reference_solver.face_law.MULTIPLIER_BASIS``, the non-negative hat basis Phi): ccx's nodal forces read as
+  ``mortar=True``, the non-negative hat basis Phi): ccx's nodal forces read as
   the multipliers lambda = D^-T r of the field sum lambda_a Phi_a, node by node the quantity the reference's
-  face-weighted Lagrange and face penalty report (their -E D^-T r, E = I for the hat basis). Exact (-p) for a
+  face-weighted Lagrange and face penalty report (their -D^-T r). Exact (-p) for a
   uniform pressure p. Without a model (no faces to build D from) the reader takes ccx's own nodal pressure
   -CPRESS instead.
 - face-to-face deck (``*_ccx_f2f.inp``, master a wide C3D8 ring, no master node under each slave node):
@@ -41,12 +41,8 @@ class TableProjection:
     (> 0 compressive) to sigma_N [Pa] (< 0 compression). D is factorised once per job."""
 
     def __init__(self, mesh, node_ids: np.ndarray, table: np.ndarray):
-        from reference_solver.face_law import MULTIPLIER_BASIS
         from reference_solver.face_weights import face_matrix
-        if MULTIPLIER_BASIS != "hat":       # the modified basis reports E lambda: not this reader's quantity
-            raise DeckbridgeError(f"reference_solver.face_law.MULTIPLIER_BASIS {MULTIPLIER_BASIS!r}: the ccx "
-                                  "mortar reader projects with the hat basis only")
-        surf, M = face_matrix(mesh.nodes, mesh.table_faces, modified=MULTIPLIER_BASIS)
+        surf, M = face_matrix(mesh.nodes, mesh.table_faces, mortar=True)
         pos = {int(n): k for k, n in enumerate(mesh_node_ids(mesh, surf))}
         rows = np.flatnonzero(table)
         missing = [int(node_ids[i]) for i in rows if int(node_ids[i]) not in pos]
