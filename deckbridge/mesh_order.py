@@ -147,9 +147,9 @@ def _pad_faces(model, tfaces, cells, ijk, et):
 
 def pad_mesh_any_order(model):
     """The :class:`SkirtMesh` of ``model`` with ``contact.pads`` on a quadratic or tetrahedral skirt, the table
-    the pad faces only (:func:`_pad_faces`). :func:`build_any_order` refuses these models (docs/elements.md:
-    the face-weighted Lagrange law oscillates at the pad edges); this builder is kept to measure that
-    (tests/test_pads_quadratic.py) and for the law that lifts the refusal."""
+    the pad faces only (:func:`_pad_faces`). :func:`build_any_order` refuses these models (:data:`PADS_REASON`:
+    the face-weighted Lagrange law opens pad-edge rows under N alone); this builder is kept to measure that
+    (tests/test_pads_quadratic.py, docs/elements.md "Pads") and for a law that lifts the refusal."""
     return _build(model)
 
 
@@ -159,7 +159,7 @@ def build_any_order(model):
     from .errors import ModelError
     if model.contact.pads is not None:
         raise ModelError("contact.pads", "set", f"needs mesh.element hex8i or hex8 (not {model.mesh.element}): "
-                         + PADS_REASON)
+                         + (PADS_REASON_TET4 if element_type(model.mesh.element).name == "c3d4" else PADS_REASON))
     return _build(model)
 
 
@@ -169,6 +169,9 @@ PADS_REASON = ("on 10-/15-/20-node faces the pad edge's singular pressure unders
                "the face-weighted Lagrange law opens those rows under N alone (hex20 96 x 12 x 2: 18 of 69 rows a pad, "
                "pressing up to 1.3 um into the table, where a fine hex8i skirt carries 1.2 x the pad's mean pressure), "
                "so liftoff would read lambda = 0 (docs/elements.md, Pads)")
+PADS_REASON_TET4 = ("4-node tetrahedra (constant strain, they fail the bending patch test) lift the outer and mid-wall "
+                    "pad rows under N alone (96 x 12 x 2: 10 of 27 rows a pad, where a fine hex8i skirt presses every "
+                    "node), so liftoff would read lambda = 0 (docs/elements.md, Pads)")
 
 
 def _build(model):
