@@ -9,11 +9,12 @@ hex8i skirt (192 x 24 x 4) keeps every pad node pressed (through-wall sigma_N -1
 cell of 96 inside it, -28 at the pad centre; mean -43). On 10-/15-/20-node faces the discrete pressure
 undershoots half a cell inside each edge; the face-weighted Lagrange law (hat basis, lambda >= 0) turns the
 undershoot into open rows (48 x 6 x 1: 36 of 92 rows hex20r, 64 of 108 tet10; 96 x 12 x 2: 18 of 69 a pad
-hex20 / hex20r, 27 of 85 tet10; 192 x 24 x 2 hex20: 16 of 133; always within 2 (tet10 2.5) cells of an edge), some of them
-pressing up to 1.3 um into the table (nodal gap < 0), so liftoff reads lambda = 0 with the moment. It is the
-discretisation, not physics: the fine 8-node skirt has no open node and at least 0.4 of the mean pressure
-everywhere on the pad, and a stiff face-integrated penalty on the same quadratic mesh keeps every row closed
-and agrees with the 8-node penalty within 2 % of the peak from one cell inside the edges.
+hex20 / hex20r, 27 of 85 tet10; 192 x 24 x 2 hex20: 16 of 133; always within 2 (tet10 2.5) cells of an edge),
+some of them pressing up to 1.3 um into the table (nodal gap < 0), so liftoff reads lambda = 0 with the
+moment. It is the discretisation, not physics: the fine 8-node skirt has no open node and at least 0.4 of the
+mean pressure everywhere on the pad, and a stiff face-integrated penalty on the same quadratic mesh keeps every
+row closed and agrees with the 8-node penalty within 2 % of the peak from one cell inside the edges. tet4 (the
+nodal law on 3-node faces) lifts its outer and mid-wall pad rows: its own element's failure (bending).
 """
 
 from __future__ import annotations
@@ -119,7 +120,8 @@ def test_lagrange_opens_quadratic_pad_rows_where_the_8_node_skirt_presses(elemen
     default moment in step 2. Each pad's reaction is N / 4 (four equal pads under N: symmetry and equilibrium)
     and sum sigma_N A = -N on both meshes; the fine hex8i (96 x 12 x 2) presses every pad row at >= 0.4 of the
     mean (measured 0.42) and lifts off at lambda 0.707 (48 x 6 x 1: 0.670); the quadratic skirt has open rows
-    under N alone (36 of 92 hex20r, 64 of 108 tet10, 16 of 40 tet4), some (face-weighted law) pressing into the table, so its liftoff reads 0."""
+    under N alone (36 of 92 hex20r, 64 of 108 tet10, 16 of 40 tet4), some (face-weighted law) pressing into the
+    table, so its liftoff reads 0."""
     n = None
     for el, nt, nz, nr in ((element, 48, 6, 1), ("hex8i", 96, 12, 2)):
         m = _model(el, nt, nz, nr, PADS)
