@@ -147,13 +147,15 @@ def _through_wall(g):
 
 
 @needs_ccx
-@pytest.mark.parametrize("element", ["hex20r"])
+@pytest.mark.parametrize("element", ["hex20r", "tet10"])
 def test_ccx_f2f_matches_the_reference_face_penalty_with_an_explicit_k(element, tmp_path):
-    """k_normal 1e8 N/m, 48 x 3 x 1 skirt, no stop (ccx ~10 s one core): under N alone both penetrate N / Sum k
-    (the ring's uniform pressure N / A over the slope Sum k / A; 1 %) and agree node by node within 0.5 % of it;
-    at lambda 0.6 ccx's forces carry N (1e-3: measured 4e-4 hex20r, 1e-4 tet10), the reference's (1e-9), the
-    through-wall sigma_N within 0.5 % of the peak (measured 0.25 % hex20r, 0.28 % tet10; 0.69 % on 24 x 3 x 1,
-    also with the model's own penalty: the mesh, not the slope) and the penetrations within 1 % of the largest.
+    """k_normal 1e8 N/m, 48 x 3 x 1 skirt, no stop (ccx ~10 s one core; tet10: two slopes, 2 pairs): under N alone
+    both penetrate N / Sum k (the ring's uniform pressure N / A over the slope Sum k / A; 1 %) and agree node by
+    node within 0.5 % of it (measured 4e-4 hex20r, 1e-5 tet10); at lambda 0.6 ccx's forces carry N (1e-3:
+    measured 4e-4 hex20r, 3e-6 tet10), the reference's (1e-9), the through-wall sigma_N within 0.5 % of the peak
+    (measured 0.25 % hex20r, 0.28 % tet10; 0.69 % on 24 x 3 x 1, also with the model's own penalty: the mesh,
+    not the slope) and the penetrations within 1 % of the largest (measured 0.03 %, 0.01 %). tet10 with both
+    pairs on one master surface (before render's pair_masters): 8 % off N, penetration 11 % over the reference.
     Through the wall sigma_N hardly depends on the slope at full contact: with the superseded weightings (deck
     with int N dA, reference with the modified basis) it still agreed within 0.23 % on hex20r, while the ccx
     penetration was 6.6 x the reference's (the deck's slope 2.05e10 against 1.27e11 Pa/m)."""
@@ -177,3 +179,35 @@ def test_ccx_f2f_matches_the_reference_face_penalty_with_an_explicit_k(element, 
     assert float(np.abs(_through_wall(r) - _through_wall(c)).max()) <= 5e-3 * peak
     gr, gc = r.set_index("node").gap_m, c.set_index("node").gap_m
     assert float(np.abs(gr - gc.reindex(gr.index)).max()) <= 1e-2 * float(np.abs(gr).max())
+
+
+@needs_ccx
+def test_ccx_f2f_pairs_of_different_slopes_do_not_share_master_faces(tmp_path):
+    """hex8i 32 x 3 x 2, k_normal 1e8 N/m: the inner and outer base rows get slopes 1 % apart, so the f2f deck has
+    two pairs; each has its own master faces (dialects/calculix/quadratic_master.pair_masters), and ccx then
+    penetrates N / Sum k under N alone (1e-3; measured 1e-6) as the reference (1e-3), the table forces carry N.
+    Both pairs on one master surface: 16.7 % more penetration (ccx 2.20)."""
+    import re
+    from ccx_job import ccx_job
+    from deckbridge.model import load
+    from deckbridge.readers import read
+    from deckbridge.solve import condense_model, solve_system
+    from reference_solver.face_penalty import face_weighted
+    model = load(None, ["mesh.n_theta=32", "mesh.n_z=3", "mesh.n_r=2", "contact.stop.side=none",
+                        "contact.penalty.k_normal=1e8", "steps.lambda_max=0.6", "steps.increments=3"])
+    inp = ccx_job(model, tmp_path, "f2f")
+    text = inp.read_text()
+    pairs = re.findall(r"TYPE=SURFACE TO SURFACE\nSLAVE_TABLE\d+, (\w+)", text)
+    assert len(pairs) == 2 and len(set(pairs)) == 2
+    faces = [re.search(rf"\*SURFACE, NAME={m}\n((?:\d+, S\d\n)+)", text).group(1).splitlines() for m in pairs]
+    assert not set(faces[0]) & set(faces[1])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ccx = read(inp.with_suffix(".frd"), fmt="calculix", model=model)
+        mesh, system = condense_model(model)
+        ref = solve_system(model, mesh, face_weighted(system), "penalty", recover=False)[0]
+    d0 = model.loads.N / mesh.table.k.sum()
+    c0, r0 = _table(ccx, 1, 0.0), _table(ref, 1, 0.0)
+    assert c0.force_n.sum() == pytest.approx(model.loads.N, rel=1e-6)
+    np.testing.assert_allclose(c0.gap_m, -d0, rtol=1e-3)
+    np.testing.assert_allclose(r0.gap_m, -d0, rtol=1e-3)
