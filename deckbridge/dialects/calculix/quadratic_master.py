@@ -1,4 +1,5 @@
-"""The CalculiX face-to-face deck's table master under quadratic slave faces (a wide fixed C3D8 ring).
+"""The CalculiX face-to-face deck's table master under quadratic slave faces (a wide fixed C3D8 ring), and one
+master surface per contact pair on any faces (:func:`pair_masters`).
 
 Lives with the CalculiX dialect: it writes element and face cards (``deckbridge.render.inp_cards``) on the
 ``.inp`` numbering (``deckbridge.numbering.inp``), which the base-layer ``deck_elements`` may not import.
