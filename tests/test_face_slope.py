@@ -134,11 +134,10 @@ def test_deck_and_reference_slopes_add_up_to_the_sum_of_k(element):
 
 
 def _table(df, step, lam):
-    """Table rows of one state; ccx's reader also yields all-zero rows at some load factors (not ccx's increments:
-    its .sta has 3 in step 2), which are left out."""
+    """Table rows of the one state at ``lam`` in ``step`` (one state per ccx time point: test_ccx_time_points)."""
     g = df[(df.surface == "table") & (df.step == step) & np.isclose(df.load_factor, lam)]
-    inc = g.groupby("increment").force_n.apply(lambda f: f.abs().sum())
-    return g[g.increment == inc.idxmax()]
+    assert g.increment.nunique() == 1
+    return g
 
 
 def _through_wall(g):
