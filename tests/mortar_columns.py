@@ -49,14 +49,15 @@ def reference_lagrange(model):
     return mesh, system, sol
 
 
-def state_index(sol, step: int, lam: float) -> int:
-    """Index of the reference solution's last state of ``step`` at load factor ``lam``."""
+def state_index(sol, step: int, lam: float) -> int | None:
+    """Index of the reference solution's last state of ``step`` at load factor ``lam`` (None: no such state)."""
     k = [i for i in range(sol.load_factor.size) if sol.step[i] == step and abs(sol.load_factor[i] - lam) < 1e-9]
-    return k[-1]
+    return k[-1] if k else None
 
 
 def mortar_states(model, mesh, system, sol, inp) -> list[dict]:
-    """Per printed state of the ccx mortar job ``inp`` (its ``.dat`` NTABLE forces): lambda, lift / (R + t/2) of
+    """Per printed state of the ccx mortar job ``inp`` (its ``.dat`` NTABLE forces) at a load factor the
+    reference also reached: lambda, lift / (R + t/2) of
     the reference, whether every reference table node is closed, the reference peak |sigma_N| [Pa], ccx's
     RF_z per table node (``rf``, :class:`TableColumns` order) and their sum [N], the through-wall sigma_N per column [Pa] of both (``ref``, ``ccx``), ``theta`` [deg], ``area``
     [m^2] and ``pressed`` (the column holds a closed reference node) per column."""
@@ -70,6 +71,8 @@ def mortar_states(model, mesh, system, sol, inp) -> list[dict]:
     for n, b in enumerate(printed):
         step, lam = (1, 0.0) if n == 0 else (2, round((b["time"] - 1.0) * model.steps.lambda_max, 9))
         k = state_index(sol, step, lam)
+        if k is None:                                            # a ccx cutback's state: no reference twin
+            continue
         fc = np.array([b["values"][int(i)][2] for i in ids])     # RF_z: the table's push, > 0 compressive
         states.append({"lam": lam, "lift": max(float(sol.gap[k, cols.rows].max()), 0.0) / radius,
                        "closed": bool(sol.closed[k, cols.rows].all()),

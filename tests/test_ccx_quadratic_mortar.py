@@ -6,7 +6,10 @@ compression), the force balance, and the reference solver's face-weighted Lagran
 
 Through-wall sigma_N per azimuth = sum F / sum a over the azimuth's table nodes, F the consistent node force
 (ccx: RF_z of the slave node; reference: ``Solution.force`` = D^T lambda) and a = int N_i dA (the consistent
-share, the same for both), so a pressure constant through the wall is read exactly on 8- and 6-node faces."""
+share, the same for both; tests/mortar_columns.py), so a pressure constant through the wall is read exactly on 8-
+and 6-node faces. ccx's TYPE=MORTAR is a dual mortar on the alpha = 1/5 transformed basis, the reference's law a hat
+basis: node values are not the same quantity, column forces are; past liftoff, within one cell of the contact edge,
+the two put the edge force on different columns, so there it is compared over +-15 deg (docs/mortar_stop.md)."""
 
 from __future__ import annotations
 
@@ -24,6 +27,7 @@ from mortar_columns import (TableColumns, dual_multipliers, edge_columns, edge_w
 
 TOL = 0.02                      # of the reference's peak |sigma_N| (issue 23)
 SMALL_STRAIN = 0.01             # lift / (R + t/2)
+EDGE_WINDOW_DEG = 15.0          # past liftoff the edge force is compared over +-15 deg of each contact edge
 MOMENT_LOADS = ["contact.stop.side=none", "steps.increments=5"]
 MOMENT_MESH = ["mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1"] + MOMENT_LOADS
 
@@ -105,8 +109,9 @@ def test_mortar_deck_forces_are_ccx_dual_multipliers_not_hat_ones(tmp_path_facto
     """What ccx 2.20's TYPE=MORTAR is (docs/mortar_stop.md): its table forces r are T^-1 (d lambda) with lambda >= 0,
     lambda the multipliers of the dual basis to the transformed functions T N (alpha = 1/5,
     :func:`mortar_columns.dual_multipliers`): lambda >= 0 at every state to 1e-6 of its largest (measured
-    >= -2e-8), = N / (2 pi R t) under N alone (measured to 7e-4 on tet10); read with the reference's hat basis,
-    -D^-T r, the same forces carry tension next to the contact edge at lambda 0.8 (the compared laws differ there)."""
+    >= -2e-8), = N / (2 pi R t) under N alone (measured to 7e-4 on tet10); with alpha 0.15 instead lambda < 0
+    next to the contact edge at lambda 0.8 (measured -3.6 % hex20, -5.6 % tet10 of the largest), and read with the
+    reference's hat basis, -D^-T r, the same forces carry tension there (the compared laws differ)."""
     from deckbridge.dialects.calculix.face_rows import TableProjection
     from deckbridge.numbering.skirt import mesh_node_ids
     run = moment_run(element, tmp_path_factory.mktemp(element))
@@ -120,6 +125,7 @@ def test_mortar_deck_forces_are_ccx_dual_multipliers_not_hat_ones(tmp_path_facto
             assert np.abs(lam / exact - 1).max() < 5e-3
         if s["lam"] == 0.8:
             assert hat.sigma(s["rf"]).max() > 0.01 * lam.max()          # tension in the hat reading
+            assert dual_multipliers(mesh, cols, s["rf"], 0.15).min() < -1e-3 * lam.max()    # alpha matters
 
 
 @pytest.mark.parametrize("element, shape", [
@@ -141,14 +147,15 @@ def test_mortar_deck_matches_the_reference_lagrange_in_full_contact(tmp_path_fac
 
 def _past_liftoff(run):
     """Per small-strain state past liftoff: (lambda, the largest column difference within one cell of a contact
-    edge, the largest elsewhere, the edge windows' force difference per area (mortar_columns.edge_windows)) [Pa],
+    edge, the largest elsewhere, the force difference per area of the columns within EDGE_WINDOW_DEG of each edge
+    (mortar_columns.edge_windows)) [Pa],
     the reference's nodal peak and through-wall peak |sigma_N| [Pa]."""
     out = []
     for s in run["states"]:
         if s["lift"] <= SMALL_STRAIN and not s["closed"]:
             d = np.abs(s["ref"] - s["ccx"])
             edge = edge_columns(s["theta"], s["pressed"], run["cell"])
-            out.append((s["lam"], d[edge].max(initial=0.0), d[~edge].max(), edge_windows(s, run["cell"]),
+            out.append((s["lam"], d[edge].max(initial=0.0), d[~edge].max(), edge_windows(s, EDGE_WINDOW_DEG),
                         s["peak"], float(np.abs(s["ref"]).max())))
     return out
 
@@ -158,9 +165,12 @@ def test_mortar_deck_matches_the_reference_lagrange_past_liftoff_away_from_the_e
         tmp_path_factory, element):
     """Past liftoff (lambda 0.6, 0.8: some table node open, lift / R <= 0.01) ccx mortar against the reference
     Lagrange through the wall: every column more than one cell from a contact edge within 2 % of the reference's
-    nodal peak, and the force of the columns within one cell of each edge within 2 % of the through-wall peak x
-    their area (measured at lambda 0.8: hex20r 24 x 6 x 1 0.43 % / 0.66 %, hex20 24 x 3 x 1 0.60 % / 0.43 %).
-    Within one cell of the edge the two laws put that force on different columns (next test)."""
+    nodal peak, and the force of the columns within 15 deg of each edge (one cell here) within 2 % of the
+    through-wall peak x their area. Measured at lambda 0.8, elsewhere / edge force: hex20r 24 x 6 x 1 0.43 % /
+    0.66 %, hex20 0.60 % / 0.43 %, tet10 1.42 % / 0.36 % (15 deg on 48 x 6 x 1: <= 0.62 %; one cell, 7.5 deg,
+    there: hex20r 2.53 %, the reference's corner / mid-side alternation reaching two cells in; bench/README.md).
+    Against the through-wall peak the columns elsewhere are 2.05-6.34 % (docs/mortar_stop.md). Within one cell of
+    the edge the two laws put the edge force on different columns (next test)."""
     run = moment_run(element, tmp_path_factory.mktemp(element))
     rows = _past_liftoff(run)
     assert any(lam == 0.8 for lam, *_ in rows), rows
@@ -176,7 +186,7 @@ def test_mortar_deck_matches_the_reference_lagrange_past_liftoff_away_from_the_e
     "7.7 % (tet10) of the reference's nodal peak (39-67 % of its through-wall peak), and not falling with the cell "
     "size (48 x 6 x 1: hex20r 11.8 %, hex20 9.7 %; bench/mortar_convergence.py): ccx's dual multipliers on the "
     "transformed basis and the reference's hat multipliers put the edge force on different columns (its force "
-    "over the edge cells agrees within 0.7 % of the through-wall peak, previous test; docs/mortar_stop.md)"))
+    "within 15 deg of the edge agrees within 0.7 % of the through-wall peak, previous test; docs/mortar_stop.md)"))
 def test_mortar_deck_matches_the_reference_lagrange_past_liftoff_at_the_edge_column_by_column(
         tmp_path_factory, element):
     run = moment_run(element, tmp_path_factory.mktemp(element))
