@@ -18,7 +18,15 @@ D = their ``contact_area``. D is invertible, so the condensed LCP w = S g + q >=
 solved by the nodal law's own LCP algorithms. sigma_N = -lambda: with the hat basis a node's pressure is its
 own multiplier. With Phi = N (D = M, symmetric) a uniform lift would give g~ < 0 at 8-node
 corners: the base could not lift. Chosen by ``Problem.contact_weighting`` ('nodal' default | 'face' |
-'face-lumped'); Lagrange only, frictionless (:func:`reference_solver.laws.make_law` refuses the rest in one line).
+'face-lumped' | 'face-dual'); Lagrange only, frictionless (:func:`reference_solver.laws.make_law` refuses the rest
+in one line).
+
+'face-dual' takes CalculiX 2.20's ``TYPE=MORTAR`` multiplier basis instead of the hat one (Sitzmann's quadratic
+dual mortar, :func:`reference_solver.face_weights.dual_mortar`): dual functions psi biorthogonal to the transformed
+slave functions Nt = T N (alpha = 1/5), D = diag(d) T^-T with d = int Nt dA, so lambda_j >= 0 and the weighted gap
+>= 0 hold node by node in ccx's own variables and sigma_N = -lambda is the multiplier ccx's forces give
+(lambda = T r / d). The pressure field sum lambda_j psi_j is not >= 0 pointwise (a dual function is negative in
+part of its face); it is the partner of ccx's mortar deck, the hat basis stays the default (docs/elements.md).
 """
 
 from __future__ import annotations
@@ -29,14 +37,14 @@ import scipy.sparse.linalg as spla
 
 from .face_weights import face_matrix, surface_faces
 
-WEIGHTINGS = ("nodal", "face", "face-lumped")
+WEIGHTINGS = ("nodal", "face", "face-lumped", "face-dual")
 
 
 def weighting_matrix(p) -> sp.csc_matrix:
     """D (nc x nc) [m^2] of a problem's contact rows: the mortar matrix int Phi_a N_b dA of each contact surface
-    (:func:`reference_solver.face_weights.face_matrix` with ``mortar``: the hat basis; 'face-lumped': the row sums
-    of M) on the rows of that surface whose nodes lie on one of its faces, ``contact_area`` on the diagonal of
-    every other."""
+    (:func:`reference_solver.face_weights.face_matrix` with ``mortar``: the hat basis; 'face-dual': CalculiX's dual
+    basis; 'face-lumped': the row sums of M) on the rows of that surface whose nodes lie on one of its faces,
+    ``contact_area`` on the diagonal of every other."""
     nc = p.n_contacts
     lumped = p.contact_weighting == "face-lumped"
     rows, cols, vals = [], [], []
@@ -48,7 +56,8 @@ def weighting_matrix(p) -> sp.csc_matrix:
         faces = surface_faces(p.blocks, on)
         if not faces:
             continue
-        surf, M = face_matrix(p.nodes, faces, lumped=lumped, mortar=not lumped)
+        surf, M = face_matrix(p.nodes, faces, lumped=lumped, mortar=not lumped,
+                              basis="dual" if p.contact_weighting == "face-dual" else "hat")
         row_of = np.full(p.n_nodes, -1)
         row_of[p.contact_nodes[idx]] = idx
         r = row_of[surf]                                  # every surf node is a row of this surface

@@ -108,6 +108,47 @@ def hat_mortar(face: FaceType, xyz: np.ndarray) -> np.ndarray:
     return out
 
 
+MULTIPLIER_BASES = ("hat", "dual")
+DUAL_ALPHA = 0.2     # CalculiX 2.20 TYPE=MORTAR: a corner function takes 1/5 of each mid-side one of its edges
+
+
+def transformed_basis(face: FaceType, alpha: float = DUAL_ALPHA) -> np.ndarray:
+    """T (k, k) of the transformed slave functions Nt = T N of a quadratic face (CalculiX's dual mortar, after
+    Wohlmuth / Popp et al.): corner a gets Nt_a = N_a + alpha (N_m + N_m') over the mid-sides m, m' of its two
+    edges, mid-side m keeps Nt_m = (1 - 2 alpha) N_m. The columns sum to 1 (sum Nt = sum N = 1). With
+    alpha = 1/5 every int Nt_a dA > 0 (regular quad8: corners A/20, mid-sides A/5; tri6: 2A/15, A/5), where
+    int N_a dA is -A/12 (quad8) or 0 (tri6) at the corners."""
+    k, nc = face.n_nodes, face.n_corners
+    T = np.eye(k)
+    for e in range(nc):                                    # mid-side nc + e on edge (e, e + 1)
+        T[e, nc + e] = T[(e + 1) % nc, nc + e] = alpha
+        T[nc + e, nc + e] = 1.0 - 2.0 * alpha
+    return T
+
+
+def dual_coefficients(face: FaceType, xyz: np.ndarray, alpha: float = DUAL_ALPHA) -> tuple[np.ndarray, np.ndarray]:
+    """(A (nf, k, k), d (nf, k) [m^2]) of the dual multiplier functions psi_j = sum_k A_jk Nt_k of faces ``xyz``
+    (nf, k, 3) (Nt = :func:`transformed_basis` T N): A = D M^-1, D = diag(d), d_j = int Nt_j dA,
+    M = int Nt Nt^T dA over the actual (curved) face, so that int psi_j Nt_k dA = delta_jk d_k (biorthogonal)."""
+    T = transformed_basis(face, alpha)
+    jw = face.area_jacobian(np.asarray(xyz, float)) * face.weights          # (nf, p)
+    Nt = face.shape(face.points) @ T.T                                       # (p, k)
+    d = jw @ Nt
+    M = np.einsum("fp,pa,pb->fab", jw, Nt, Nt)
+    return d[:, :, None] * np.linalg.inv(M), d
+
+
+def dual_mortar(face: FaceType, xyz: np.ndarray, alpha: float = DUAL_ALPHA) -> np.ndarray:
+    """D_ab = int psi_a N_b dA (nf, k, k) [m^2] of CalculiX's dual basis (:func:`dual_coefficients`) on
+    quadratic faces ``xyz``: with N = T^-1 Nt and biorthogonality, D = diag(d) T^-T (d_a = int Nt_a dA > 0), so
+    the face-weighted law's forces are r = D^T lambda = T^-1 (d lambda) and its weighted gaps D g = d (T^-T g):
+    node by node the multipliers lambda >= 0 and weighted gaps >= 0 of ccx's ``TYPE=MORTAR``. The dual
+    functions themselves (negative in parts of the face) are not needed for D."""
+    T = transformed_basis(face, alpha)
+    d = face_shares(face, xyz) @ T.T                                         # int Nt_a dA = T int N dA
+    return d[:, :, None] * np.linalg.inv(T).T[None]
+
+
 def multiplier_shares(face: FaceType, xyz: np.ndarray) -> np.ndarray:
     """int Phi_a dA (nf, k) [m^2] of faces ``xyz`` (nf, k, 3) of type ``face``, Phi the multiplier basis of the
     face-weighted laws: the hat basis on 8-/6-node faces (the row sums of :func:`hat_mortar`; regular quad8:
@@ -142,12 +183,14 @@ def face_slope(face: FaceType, xyz: np.ndarray, k: np.ndarray, area: np.ndarray)
     return (s * q).sum(axis=1) / s.sum(axis=1)
 
 
-def face_matrix(nodes: np.ndarray, faces, lumped: bool = False,
-                mortar: bool = False) -> tuple[np.ndarray, sp.csr_matrix]:
+def face_matrix(nodes: np.ndarray, faces, lumped: bool = False, mortar: bool = False,
+                basis: str = "hat") -> tuple[np.ndarray, sp.csr_matrix]:
     """Surface nodes (m,) and the assembled M (m x m, CSR) [m^2] of ``faces`` [(face type, conn), ...]
     (:func:`surface_faces`); ``lumped``: the diagonal of row sums instead; ``mortar``: the mortar matrix
-    D_ab = int Phi_a N_b dA (not symmetric) of the hat basis on 8-/6-node faces (:func:`hat_mortar`; 4-/3-node
-    faces keep M)."""
+    D_ab = int Phi_a N_b dA (not symmetric) of the multiplier ``basis`` on 8-/6-node faces: 'hat' (default,
+    :func:`hat_mortar`) or 'dual' (CalculiX's, :func:`dual_mortar`); 4-/3-node faces keep M."""
+    if basis not in MULTIPLIER_BASES:
+        raise ReferenceSolverError(f"basis = {basis!r}: must be one of {', '.join(MULTIPLIER_BASES)}")
     if not faces:
         raise ReferenceSolverError("contact surface: no element face has all its nodes on it")
     nodes = np.asarray(nodes, float)
@@ -155,7 +198,7 @@ def face_matrix(nodes: np.ndarray, faces, lumped: bool = False,
     rows, cols, vals = [], [], []
     for ftype, conn in faces:
         if mortar and ftype.n_nodes > ftype.n_corners:
-            Me = hat_mortar(ftype, nodes[conn])
+            Me = (hat_mortar if basis == "hat" else dual_mortar)(ftype, nodes[conn])
         else:
             Me = face_mass(ftype, nodes[conn])
         loc = np.searchsorted(surf, conn)

@@ -81,7 +81,7 @@ class Problem:
     friction_surfaces: tuple = ("table",)  # surfaces whose rows carry Coulomb friction
     extra: dict = field(default_factory=dict, compare=False)
     blocks: tuple = ()                # ElementBlock per element type (default: (element, hexes))
-    contact_weighting: str = "nodal"  # 'nodal' | 'face' | 'face-lumped': the Lagrange law's rows (face_law.py)
+    contact_weighting: str = "nodal"  # 'nodal' | 'face' | 'face-lumped' | 'face-dual': the law's rows (face_law.py)
 
     def __post_init__(self):
         arr = lambda name, dt=float: object.__setattr__(self, name, np.asarray(getattr(self, name), dt))  # noqa: E731
@@ -193,8 +193,8 @@ class Problem:
             bad(f"tangential = {self.tangential!r}: must be one of {', '.join(TANGENTIAL)}")
         if self.tangential == "friction" and not np.any(np.isin(self.contact_surface, self.friction_surfaces)):
             bad(f"friction_surfaces = {self.friction_surfaces!r}: no contact row on these surfaces")
-        if self.contact_weighting not in ("nodal", "face", "face-lumped"):
-            bad(f"contact_weighting = {self.contact_weighting!r}: must be one of nodal, face, face-lumped")
+        if self.contact_weighting not in ("nodal", "face", "face-lumped", "face-dual"):
+            bad(f"contact_weighting = {self.contact_weighting!r}: must be one of nodal, face, face-lumped, face-dual")
         if np.any(self.contact_clearance < 0):
             bad("contact_clearance: must be >= 0")
         if np.any(self.spring_k < 0):
