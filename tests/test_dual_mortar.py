@@ -154,6 +154,8 @@ def dual_run(element: str, folder, same_model: bool) -> dict:
         return _RUNS[element, same_model]
     from ccx_job import ccx_job
     from deckbridge.deck_elements import corner_spring_k
+    from deckbridge.dialects.calculix.face_rows import TableProjection
+    from deckbridge.numbering.skirt import mesh_node_ids
     from deckbridge.mesh import build_mesh
     from deckbridge.model import load
     from deckbridge.solve import build_problem, solve_system
@@ -170,10 +172,12 @@ def dual_run(element: str, folder, same_model: bool) -> dict:
     _, _, sol = solve_system(model, mesh, system, "lagrange")
     cols = TableColumns(mesh, system)
     states = mortar_states(model, mesh, system, sol, inp)
+    own = TableProjection(mesh, mesh_node_ids(mesh, cols.nodes), np.ones(cols.nodes.size, bool), basis="dual")
     for s in states:
         k = state_index(sol, 1 if s["lam"] == 0.0 else 2, s["lam"])
         s["lam_ref"] = -sol.sigma_n[k, cols.rows]
         s["lam_ccx"] = dual_multipliers(mesh, cols, s["rf"])
+        s["read"] = -own.sigma(s["rf"])                  # the ccx reader's projection in ccx's own basis
         s["fz"] = float(sol.force[k, cols.rows].sum())
     _RUNS[element, same_model] = {"model": model, "states": states}
     return _RUNS[element, same_model]
@@ -186,6 +190,8 @@ def _differences(run) -> list[tuple[float, float, float]]:
     out = []
     for s in run["states"]:
         assert s["rz"] == pytest.approx(n, rel=1e-6) and s["fz"] == pytest.approx(n, rel=1e-9)
+        # face_rows.TableProjection(basis='dual') (-D^-T r, D assembled from the faces) = ccx's lambda = T r / d
+        np.testing.assert_allclose(s["read"], s["lam_ccx"], rtol=0, atol=1e-9 * np.abs(s["lam_ccx"]).max())
         if s["lift"] <= 0.01:
             peak = np.abs(s["lam_ref"]).max()
             out.append((s["lam"], float(np.abs(s["lam_ref"] - s["lam_ccx"]).max() / peak),

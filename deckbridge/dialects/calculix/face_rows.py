@@ -38,11 +38,15 @@ QUADRATIC_TYPES = ("C3D20", "C3D20R", "C3D10", "C3D15")     # ccx element types 
 class TableProjection:
     """-D^-T r of the table rows of a slave table ``node_ids`` / ``table`` (bool per row) on ``mesh``'s table
     faces (D: the reference's mortar matrix, module doc): :meth:`sigma` maps the rows' normal forces r [N]
-    (> 0 compressive) to sigma_N [Pa] (< 0 compression). D is factorised once per job."""
+    (> 0 compressive) to sigma_N [Pa] (< 0 compression). D is factorised once per job. ``basis``: the multiplier
+    basis of D, 'hat' (the reader's, default) or 'dual' (ccx's own TYPE=MORTAR multipliers, D = diag(d) T^-T of
+    :func:`reference_solver.face_weights.dual_mortar`: -D^-T r = -(T r) / d, what the reference's
+    ``contact_weighting='face-dual'`` reports; tests/test_dual_mortar.py). The reader keeps 'hat' (its table's
+    areas are the hat areas, so Sum sigma_N x area = Sum RF holds)."""
 
-    def __init__(self, mesh, node_ids: np.ndarray, table: np.ndarray):
+    def __init__(self, mesh, node_ids: np.ndarray, table: np.ndarray, basis: str = "hat"):
         from reference_solver.face_weights import face_matrix
-        surf, M = face_matrix(mesh.nodes, mesh.table_faces, mortar=True)
+        surf, M = face_matrix(mesh.nodes, mesh.table_faces, mortar=True, basis=basis)
         pos = {int(n): k for k, n in enumerate(mesh_node_ids(mesh, surf))}
         rows = np.flatnonzero(table)
         missing = [int(node_ids[i]) for i in rows if int(node_ids[i]) not in pos]
