@@ -139,9 +139,9 @@ def quadratic_mesh(model, name: str, nodes, cells, base, top, stop_set, node_ids
         raise ModelError("mesh.sets.base", model.mesh.sets.base, f"node {int(node_ids[stray[0]])} is on no base "
                          "element face (every base node must be a node of a bottom face)")
     if model.contact.pads is not None:
+        from ..mesh_order import PADS_REASON
         raise ModelError("contact.pads", "set", f"needs 8-node hexahedra in an imported mesh (not {name.upper()}): "
-                         "pads on an imported quadratic mesh are not built yet (tried on the parametric skirt: the "
-                         "face-weighted law lifts pad nodes under N alone)")
+                         + PADS_REASON)
     base_elems = _elems_with_face(et, cells, on_base)
     h1 = float(np.mean(np.ptp(nodes[cells[base_elems], 2], axis=1)))
     tnodes, tarea = contact_areas(tfaces, nodes)

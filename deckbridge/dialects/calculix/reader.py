@@ -147,8 +147,9 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
             where.setdefault(("cpress", key), {}).update({n: _at(frd, ln) for n, ln in b["line"].items()})
         elif b["name"] == "DISP":
             disp.setdefault(key, {}).update({n: v / u.length for n, v in b["values"].items()})
+    frd_times = np.array(sorted({b["time"] for b in frd_blocks}))
     for b in dat_blocks:
-        key = _key(b["time"], None)
+        key = _key(_on_frd_time(b["time"], frd_times), None)
         if b["kind"] == "contact":
             contact.setdefault(key, []).extend((n, v[0] / u.stress, _at(dat, ln))
                                                for (n, v), ln in zip(b["rows"], b["row_lines"]))
@@ -311,6 +312,20 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
     if not frames:
         raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
     return pd.concat(frames, ignore_index=True)
+
+
+TIME_DIGITS_TOL = 2e-6   # the .dat prints a time to 7 significant digits, the .frd to 10: the same point [s]
+
+
+def _on_frd_time(t: float, frd_times: np.ndarray) -> float:
+    """The ``.frd``'s time of the point a ``.dat`` time ``t`` [s] names (within TIME_DIGITS_TOL x max(1, t)),
+    else ``t``: one state per ccx time point, not two (a 1/3 increment is 1.333333 in one, 1.333333333 in the
+    other; keyed apart, a state's forces and its displacements or CPRESS fell into two half-empty states)."""
+    if frd_times.size:
+        k = int(np.abs(frd_times - t).argmin())
+        if abs(frd_times[k] - t) <= TIME_DIGITS_TOL * max(1.0, abs(t)):
+            return float(frd_times[k])
+    return t
 
 
 def _key(t: float, step: int | None) -> tuple[int, float]:
