@@ -14,7 +14,7 @@ import numpy as np
 from scipy import sparse
 
 from .condense import CondensedSystem
-from .kinematics import elasticity_matrix, von_mises
+from .kinematics import elasticity_matrix, gradient_to_strain, von_mises
 from .path import Solution
 
 # elements per chunk of the stress recovery: its strain operator 9.2 kB per 8-node hexahedron (19 MB),
@@ -62,8 +62,8 @@ def path_fields(system: CondensedSystem, sol: Solution, rows=None) -> np.ndarray
 
 def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     """Stresses of m states with nodal displacements ``U`` (m, n, 3) [m] of problem ``p``. The elements
-    are taken ``chunk`` at a time (``Element.gauss_strain_operator`` of those elements, every state's
-    strains by one batched product): memory bounded by the chunk, not by the mesh.
+    are taken ``chunk`` at a time, every state at once (``Element.displacement_gradients`` at the Gauss points,
+    the states as the last axis; stress = D T du/dx): memory bounded by the chunk.
 
     Per state a dict: ``cell`` (ne, 6) volume average of the element's stress by its own quadrature,
     sum_g sigma_g w_g det J_g / sum_g w_g det J_g [Pa] (so that sum over a layer of elements of cell
@@ -73,12 +73,13 @@ def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     the node [Pa]; ``nodal_von_mises`` (n,) von Mises of the nodal average [Pa]. Nodes no element
     touches get 0. Elements are numbered block by block (``p.blocks``).
     """
-    D = elasticity_matrix(p.E, p.nu)
+    C = elasticity_matrix(p.E, p.nu) @ gradient_to_strain()      # (6, 9): stress of du/dx [Pa]
     n = p.nodes.shape[0]
     U = np.asarray(U, float).reshape(-1, n, 3)
     m = U.shape[0]
+    Ut = np.ascontiguousarray(U.transpose(1, 2, 0))                 # (n, 3, m): the states last
     ne = sum(len(b.cells) for b in p.blocks)
-    cell, total, count = np.empty((m, ne, 6)), np.zeros((m, n, 6)), np.zeros(n)
+    cell, total, count = np.empty((ne, 6 * m)), np.zeros((n, 6 * m)), np.zeros(n)
     step = max(int(chunk), 1)
     jobs, start = [], 0
     for b in p.blocks:
@@ -89,25 +90,22 @@ def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     def chunk_stress(job):
         element, ext, cells, _ = job
         k, nn = cells.shape
-        xyz = p.nodes[cells]
-        w = element.volume_weights(xyz)
+        H, w = element.displacement_gradients(p.nodes[cells], Ut[cells], p.E, p.nu)   # (k, ng, 3, 3, m)
         w /= w.sum(axis=1, keepdims=True)
-        op = element.gauss_strain_operator(xyz, p.E, p.nu)                  # (k, ng, 6, 3 nn)
-        ue = U[:, cells].reshape(m, k, 3 * nn).transpose(1, 2, 0)[:, None]  # (k, 1, 3 nn, m)
-        g = np.matmul(op, ue).transpose(3, 0, 1, 2) @ D.T                  # (m, k, ng, 6) [Pa]
-        del op
-        return (w[:, None, :] @ g)[:, :, 0], (ext @ g).reshape(m, k * nn, 6)
+        g = (C @ H.reshape(k, -1, 9, m)).reshape(k, -1, 6 * m)              # (k, ng, 6m) [Pa]
+        return (w[:, None, :] @ g)[:, 0], (ext @ g).reshape(k * nn, 6 * m)
 
     # the chunks' element work on up to STRESS_THREADS threads (NumPy releases the GIL in it); the cell
     # values and the nodal sums taken in chunk order on this thread, so the sums are the same bits
     for (_, _, cells, at), (cell_k, at_nodes) in zip(jobs, _ordered_map(chunk_stress, jobs)):
         k, nn = cells.shape
-        cell[:, at:at + k] = cell_k
-        scatter = sparse.csr_matrix((np.ones(k * nn), (cells.ravel(), np.arange(k * nn))), shape=(n, k * nn))
-        for s in range(m):
-            total[s] += scatter @ at_nodes[s]
+        cell[at:at + k] = cell_k
+        lo, hi = int(cells.min()), int(cells.max()) + 1      # the nodes this chunk touches lie in [lo, hi)
+        scatter = sparse.csr_matrix((np.ones(k * nn), (cells.ravel() - lo, np.arange(k * nn))), shape=(hi - lo, k * nn))
+        total[lo:hi] += scatter @ at_nodes
         count += np.bincount(cells.ravel(), minlength=n)
-    nodal = total                                   # in place; nodes no element touches keep 0
-    nodal /= np.maximum(count, 1)[:, None]
+    total /= np.maximum(count, 1)[:, None]          # nodes no element touches keep 0
+    cell = np.ascontiguousarray(cell.reshape(ne, 6, m).transpose(2, 0, 1))       # (m, ne, 6)
+    nodal = np.ascontiguousarray(total.reshape(n, 6, m).transpose(2, 0, 1))      # (m, n, 6)
     return [{"cell": cell[s], "cell_von_mises": von_mises(cell[s]),
              "nodal": nodal[s], "nodal_von_mises": von_mises(nodal[s])} for s in range(m)]
