@@ -128,7 +128,7 @@ class Element:
         state (to rounding), without building the operator (the stress recovery of a load path's states)."""
         ne, n, _, m = ue.shape
         det, grad = self.gauss_gradients(xyz)
-        H = grad @ ue.reshape(ne, 1, n, 3 * m)                              # (ne, ng, 3, 3m)
+        H = grad.reshape(ne, -1, n) @ ue.reshape(ne, n, 3 * m)              # (ne, ng x 3, 3m)
         return H.reshape(ne, -1, 3, 3, m), det * self.weights
 
     def centre_strain_operator(self, xyz: np.ndarray) -> np.ndarray:

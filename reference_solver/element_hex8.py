@@ -149,5 +149,5 @@ class Hex8i(Hex8):
         x[:, :8] = ue.reshape(ne, 8, 3 * m)
         x[:, 8:] = np.linalg.solve(Kaa, Kau @ ue.reshape(ne, 24, m)).reshape(ne, 3, 3 * m)
         G *= -1.0
-        H = B @ x[:, None]                                                  # (ne, 8, 3, 3m): du_c/dx_i
+        H = B.reshape(ne, 24, 11) @ x                                       # (ne, 8 x 3, 3m): du_c/dx_i
         return H.reshape(ne, 8, 3, 3, m), det

@@ -79,7 +79,7 @@ def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     m = U.shape[0]
     Ut = np.ascontiguousarray(U.transpose(1, 2, 0))                 # (n, 3, m): the states last
     ne = sum(len(b.cells) for b in p.blocks)
-    cell, total, count = np.empty((ne, 6 * m)), np.zeros((n, 6 * m)), np.zeros(n)
+    cell, total, count = np.empty((m, ne, 6)), np.zeros((m, n, 6)), np.zeros(n)
     step = max(int(chunk), 1)
     jobs, start = [], 0
     for b in p.blocks:
@@ -99,14 +99,13 @@ def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     # values and the nodal sums taken in chunk order on this thread, so the sums are the same bits
     for (_, _, cells, at), (cell_k, at_nodes) in zip(jobs, _ordered_map(chunk_stress, jobs)):
         k, nn = cells.shape
-        cell[at:at + k] = cell_k
+        cell[:, at:at + k] = cell_k.reshape(k, 6, m).transpose(2, 0, 1)
         lo, hi = int(cells.min()), int(cells.max()) + 1      # the nodes this chunk touches lie in [lo, hi)
         scatter = sparse.csr_matrix((np.ones(k * nn), (cells.ravel() - lo, np.arange(k * nn))), shape=(hi - lo, k * nn))
-        total[lo:hi] += scatter @ at_nodes
+        total[:, lo:hi] += (scatter @ at_nodes).reshape(hi - lo, 6, m).transpose(2, 0, 1)
         count += np.bincount(cells.ravel(), minlength=n)
-    total /= np.maximum(count, 1)[:, None]          # nodes no element touches keep 0
-    cell = np.ascontiguousarray(cell.reshape(ne, 6, m).transpose(2, 0, 1))       # (m, ne, 6)
-    nodal = np.ascontiguousarray(total.reshape(n, 6, m).transpose(2, 0, 1))      # (m, n, 6)
+    nodal = total                                   # in place; nodes no element touches keep 0
+    nodal /= np.maximum(count, 1)[:, None]
     return [{"cell": cell[s], "cell_von_mises": von_mises(cell[s]),
              "nodal": nodal[s], "nodal_von_mises": von_mises(nodal[s])} for s in range(m)]
 
