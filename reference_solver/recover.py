@@ -17,12 +17,12 @@ from .condense import CondensedSystem
 from .kinematics import elasticity_matrix, gradient_to_strain, von_mises
 from .path import Solution
 
-# elements per chunk of the stress recovery: its strain operator 9.2 kB per 8-node hexahedron (19 MB),
-# about 3 such arrays alive while it is built; under glibc's 32 MB mmap threshold the freed arrays are
-# reused, not page-faulted afresh (8192: 1.6x the CPU, bench/README.md)
+# elements per chunk of the stress recovery: its displacement gradients, stresses and nodal values about
+# 1.6-1.9 kB per state and 8-node hexahedron (about 50 MB at 13 states); under glibc's 32 MB mmap threshold
+# for most of its arrays, so freed arrays are reused, not page-faulted afresh (8192: 1.6x the CPU, bench/README.md)
 STRESS_CHUNK = 2048
-# threads building the chunks' strain operators at once (at most the cores this process may use); each
-# holds one chunk's operator and results (about 0.06 GB), and at most two chunks wait to be summed
+# threads recovering chunks at once (at most the cores this process may use); each holds one chunk's arrays,
+# and at most two chunks wait to be summed
 STRESS_THREADS = 2
 
 
