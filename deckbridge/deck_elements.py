@@ -27,6 +27,8 @@ import numpy as np
 
 from reference_solver.elements import element_type
 
+from .mesh_data import element_key
+
 CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20R", "c3d10": "C3D10",
             "c3d15": "C3D15", "c3d4": "C3D4"}
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
@@ -38,7 +40,7 @@ def element_problem(dialect: str, model, mesh) -> str | None:
     el = getattr(mesh, "element", "c3d8i")
     if el == "c3d8i":
         return None
-    key = f"mesh.element = {model.mesh.element}"
+    key = " = ".join(element_key(model, mesh))   # the imported file's types, not mesh.element's default
     if getattr(mesh, "quadratic_faces", False):
         if dialect == "calculix":
             if mesh.stop is not None:

@@ -190,6 +190,19 @@ class SkirtMesh:
         return azimuth_deg(self.nodes[:, 0], self.nodes[:, 1])
 
 
+def element_key(model, mesh) -> tuple[str, str]:
+    """(key, value) that name the skirt's element type in a one-line message: ``('mesh.element', 'hex20')`` on
+    the parametric skirt; on an imported mesh (``mesh.file`` set) the file with the CalculiX names of the solids
+    it was read as (``('mesh.file', 'skirt.inp (C3D20R)')``, a mixed mesh ``'skirt.inp (C3D20 + C3D15)'``):
+    ``mesh.element`` is the parametric skirt's key and keeps its default ``hex8i`` there."""
+    from pathlib import Path
+    file = getattr(model.mesh, "file", None)
+    if file is None:
+        return "mesh.element", str(model.mesh.element)
+    names = " + ".join(n.upper() for n in str(getattr(mesh, "element", "c3d8")).split("+"))
+    return "mesh.file", f"{Path(file).name} ({names})"
+
+
 def _slave_set(surface, nodes, slave_nodes, faces, a_nodes, k_share, k_explicit, normal, clearance):
     n = nodes.shape[0]
     area = np.zeros(n)

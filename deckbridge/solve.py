@@ -28,6 +28,7 @@ from .friction_table import FRICTION_CSV, friction_table
 from .jsonable import json_clean
 from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
+from .mesh_data import element_key
 from .model import Model, ModelError
 from .outdir import staged
 from .numbering.skirt import mesh_node_ids
@@ -49,7 +50,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     if mesh.quadratic_faces:
         from .mesh_order import QUADRATIC_REFUSED
         if model.contact.tangential == "friction":
-            raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
+            raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
