@@ -162,8 +162,15 @@ class SkirtMesh:
     stop_elems: np.ndarray | None = None   # first-row hexahedra on the stop side (S6 inner / S4 outer)
     node_ids: np.ndarray | None = None     # user node id of every node (None: index + 1)
     elem_ids: np.ndarray | None = None     # user element id of every hexahedron (None: index + 1)
-    element: str = "c3d8i"                 # solver name of the cells' type (issue 23, mesh_order.py)
+    element: str = "c3d8i"                 # solver name of the cells' type (issue 23, mesh_order.py); mixed: 'a+b'
     table_faces: tuple | None = None       # quadratic/tet types: the table's faces [(FaceType, conn), ...]
+    blocks: tuple = ()                     # a mixed mesh: ((solver name, cells (m_b, k_b)), ...), cells numbered
+                                           # block by block; ``hexes`` then holds them padded with -1
+
+    @property
+    def cell_blocks(self) -> tuple:
+        """((solver name, cells), ...) in element order: a mixed mesh's ``blocks``, else ((element, hexes),)."""
+        return self.blocks or ((self.element, self.hexes),)
 
     @property
     def quadratic_faces(self) -> bool:

@@ -58,7 +58,8 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
     kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
     return rs.Problem(
-        nodes=mesh.nodes, hexes=mesh.hexes, element=mesh.element, E=model.material.E, nu=model.material.nu,
+        nodes=mesh.nodes, hexes=None if mesh.blocks else mesh.hexes, E=model.material.E, nu=model.material.nu,
+        element=mesh.cell_blocks[0][0], blocks=tuple(rs.ElementBlock(n, c) for n, c in mesh.blocks),
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
         contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
         spring_nodes=mesh.table.nodes[:0 if fric else None],
