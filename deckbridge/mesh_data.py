@@ -41,11 +41,12 @@ def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.
     Cells of other types (``mesh.element``, issue 23: 4-, 10-, 15-, 20-node): the positive (HRZ) nodal areas
     of their faces on the lowest plane (:func:`deckbridge.face_areas.base_face_areas`)."""
     cells = np.asarray(bottom_hexes, np.int64)
-    if cells.shape[1] != 8:
+    mixed = bool((cells < 0).any())          # a mixed mesh's padded cells (SkirtMesh.blocks)
+    if cells.shape[1] != 8 or mixed:
         from .face_areas import base_face_areas
         area = base_face_areas(nodes, cells)
         wall_nodes = np.asarray(wall_nodes, np.int64)
-        if cells.shape[1] == 4:
+        if cells.shape[1] == 4 or (mixed and cells.shape[1] == 8):   # no mid-side nodes: every base node in a row
             return area[wall_nodes].sum(axis=1)
         return _to_nearest_rows(nodes, area, wall_nodes)   # mid-side nodes' areas to the corner azimuths
     faces = cells[:, :4]
