@@ -142,8 +142,8 @@ def test_messages_name_the_file_and_its_types(tmp_path, second):
 
 
 def test_outputs_and_decks_of_a_mixed_mesh(tmp_path, first):
-    """solve writes its VTUs with one cell block per type (read back by meshio); every deck dialect not yet
-    written for mixed meshes is left out with one line naming the file's types."""
+    """solve writes its VTUs with one cell block per type (read back by meshio); of the decks only the CalculiX
+    mortar deck is written, every other dialect is left out with one line naming the file's types."""
     import meshio
 
     from deckbridge.errors import DeckUnsupported
@@ -160,4 +160,38 @@ def test_outputs_and_decks_of_a_mixed_mesh(tmp_path, first):
     notes = []
     render_all(m, tmp_path / "decks", mesh=mesh, on_unsupported=notes.append)
     assert notes and all(isinstance(n, DeckUnsupported) for n in notes)
-    assert all(str(n).startswith("mesh.file = skirt.inp (C3D8I + C3D6)") or "C3D8I + C3D6" in str(n) for n in notes)
+    assert len(notes) == 4 and all("mesh.file = skirt.inp (C3D8I + C3D6): " in str(n) for n in notes)
+    assert [p.name for p in (tmp_path / "decks").glob("*.inp")] == [f"{m.name}_ccx_lagrange.inp"]   # mortar only
+
+
+def test_run_with_ccx_on_hexahedra_and_wedges(tmp_path):
+    """ccx accepts and solves a mixed C3D8I + C3D6 skirt (the mortar deck: one *ELEMENT and element set per type,
+    slave faces S1 of either type) through the job (`run --with-ccx`), its table read and compared with the
+    reference Lagrange through the wall (Sum F / Sum A per azimuth, the criterion of tests/scenario_checks.py:
+    2 % of the state's peak). In full contact (lambda <= 0.6); measured 24 x 3 x 1: <= 0.48 % of the peak, ccx's
+    Sum F = N to 4e-8. On 48 x 6 x 1 <= 0.35 % to lambda 0.6, 0.73 % at 0.7, but 4.4 / 9.3 % at 0.8 / 0.9 past
+    liftoff (lift / R 1e-3 / 5e-3), where the same generator's all-hexahedra skirt agrees (peak -46.4 MPa both at
+    0.8): the wedge quarters' past-liftoff gap is left open (issue 23). Both solvers lift the first node of the
+    mixed skirt early and alike (lambda 0.4344 reference, 0.4350 ccx; all hexahedra 0.5882 / 0.5882)."""
+    from unittest import mock
+
+    from deckbridge.job import run_job
+    from deckbridge.readers import read
+    from scenario_checks import TOL_CCX, _through_wall
+    files = gmsh_mixed(tmp_path / "mesh", order=1, n_theta=24, n_z=3, n_r=1)
+    m = _model(files, "inp", "steps.lambda_max=0.6", "steps.increments=3")
+    with mock.patch("deckbridge.job.write_report_with_verdict", return_value=[]):
+        run_job(m, tmp_path / "run", with_ccx=True, echo=lambda *a, **k: None)
+    deck = (tmp_path / "run" / "ccx" / f"{m.name}_ccx_lagrange.inp").read_text()
+    assert "*ELEMENT, TYPE=C3D8I, ELSET=ESKIRT_C3D8I" in deck and "*ELEMENT, TYPE=C3D6, ELSET=ESKIRT_C3D6" in deck
+    r = read(tmp_path / "run" / "reference_lagrange", model=m)
+    c = read(tmp_path / "run" / "ccx", model=m)
+    assert set(c.method) == {"mortar"}
+    j = r[r.surface == "table"].merge(c[c.surface == "table"], on=["step", "increment", "node"], suffixes=("_r", "_c"))
+    assert len(j) == (c.surface == "table").sum() and j.increment.nunique() >= 3
+    worst = 0.0
+    for _, g in j.groupby(["step", "increment"]):
+        assert -np.sum(g.sigma_n_pa_c * g.area_m2_c) == pytest.approx(m.loads.N, rel=2e-3)   # ccx: Sum F = N
+        d = _through_wall(g, "_r") - _through_wall(g, "_c")
+        worst = max(worst, float(np.abs(d).max() / np.abs(g.sigma_n_pa_r).max()))
+    assert worst <= TOL_CCX, worst
