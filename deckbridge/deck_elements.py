@@ -154,19 +154,21 @@ def base_faces(mesh) -> list[tuple[int, int, np.ndarray]]:
 
 def quadratic_face_slopes(mesh, faces, k_node: np.ndarray) -> np.ndarray:
     """Face-to-face penalty slope K [Pa/m, SI] of each quadratic slave face of ``faces`` (:func:`base_faces`):
-    sum_i a_i (k_i / A_i) / sum_i a_i with a_i = int N_i dA the face's consistent shares (corners -1/12 of an
-    8-node face, 0 of a 6-node face), k_i [N/m] per table row (the model's k_c, or k_t for the stick slope) and
-    A_i the node's area (``mesh.table.area``, :func:`deckbridge.face_areas.contact_areas`): a uniform penetration
-    d then gives the face the pressure K d, the model's k_i d / A_i where that ratio is the same on every node
-    (alpha K / h1 for the model's own penalty)."""
-    from reference_solver.face_weights import face_shares
+    :func:`reference_solver.face_weights.face_slope`, the reference face penalty's own, sum_i s_i (k_i / A_i) /
+    sum_i s_i with s_i = int Phi_i dA the hat multiplier basis' shares (corners A/24, mid-sides 5 A/24 of a
+    regular 8-node face; A/12, A/4 of a 6-node one), k_i [N/m] per table row (the model's k_c, or k_t for the
+    stick slope) and A_i the row's area (``mesh.table.area``, :func:`deckbridge.face_areas.contact_areas`, the
+    sum of its hat shares): sum over the faces of K x area = sum of k_i for any k (an explicit
+    ``contact.penalty.k_normal`` included), and K = k_i / A_i = alpha K_bulk / h1 where that ratio is the same on
+    every node (the model's own penalty)."""
+    from reference_solver.face_weights import face_slope
     tab = mesh.table
     row = np.full(mesh.n_nodes, -1)
     row[tab.nodes] = np.arange(tab.nodes.size)
-    q = np.asarray(k_node, float) / tab.area
+    k, area = np.asarray(k_node, float), np.asarray(tab.area, float)
+    types = element_type(mesh.element).face_types
     out = np.empty(len(faces))
     for n, (e, f, conn) in enumerate(faces):
-        ftype = element_type(mesh.element).face_types[f - 1]
-        a = face_shares(ftype, mesh.nodes[conn][None])[0]
-        out[n] = float(a @ q[row[conn]]) / float(a.sum())
+        r = row[conn][None]
+        out[n] = face_slope(types[f - 1], mesh.nodes[conn][None], k[r], area[r])[0]
     return out

@@ -124,7 +124,57 @@ def _elems_with_face(et, cells: np.ndarray, on: np.ndarray) -> np.ndarray:
     return np.flatnonzero(hit)
 
 
+def _pad_faces(model, tfaces, cells, ijk, et):
+    """The table faces on ``contact.pads`` and the cells they bound: a face (quad8, or a triangle of a coarse
+    cell's split base) is on a pad when its coarse cell's base quadrilateral is, by
+    :func:`deckbridge.supports.pad_face_mask` on those quadrilaterals (the 8-node mesh's rule: centre azimuth
+    between the snapped pad edges, mean corner radius in the radial band): every type takes hex8i's cells."""
+    from .errors import ModelError
+    from .supports import pad_face_mask
+    g, ms = model.geometry, model.mesh
+    nt, nr, nz = ms.n_theta, ms.n_r, ms.n_z
+    out, on_nodes = [], np.zeros(ijk.shape[0], bool)
+    for ftype, conn in tfaces:
+        c = ijk[conn[:, :ftype.n_corners]]
+        jj = np.where(c[..., 2].max(axis=1, keepdims=True) - c[..., 2] > nt, c[..., 2] + 2 * nt, c[..., 2])
+        cell = np.stack([np.zeros(len(c), int), c[..., 1].min(axis=1), (jj.min(axis=1) % (2 * nt))], axis=1)
+        quad = cell[:, None, :] + np.array([(0, 0, 0), (0, 2, 0), (0, 2, 2), (0, 0, 2)])[None]
+        on = pad_face_mask(model.contact.pads, _xyz(quad, g, nr, nz, nt), 360.0 / nt, ModelError)
+        out.append((ftype, conn[on]))
+        on_nodes[conn[on].ravel()] = True
+    return tuple(out), _elems_with_face(et, cells, on_nodes)
+
+
+def pad_mesh_any_order(model):
+    """The :class:`SkirtMesh` of ``model`` with ``contact.pads`` on a quadratic or tetrahedral skirt, the table
+    the pad faces only (:func:`_pad_faces`). :func:`build_any_order` refuses these models (:data:`PADS_REASON`:
+    the face-weighted Lagrange law opens pad-edge rows under N alone); this builder is kept to measure that
+    (tests/test_pads_quadratic.py, docs/elements.md "Pads") and for a law that lifts the refusal."""
+    return _build(model)
+
+
 def build_any_order(model):
+    """The skirt's :class:`SkirtMesh` in a quadratic or tetrahedral type (:func:`_build`); ``contact.pads`` is
+    refused in one line (measured, docs/elements.md)."""
+    from .errors import ModelError
+    if model.contact.pads is not None:
+        raise ModelError("contact.pads", "set", f"needs mesh.element hex8i or hex8 (not {model.mesh.element}): "
+                         + (PADS_REASON_TET4 if element_type(model.mesh.element).name == "c3d4" else PADS_REASON))
+    return _build(model)
+
+
+# Why pads are refused on 10-/15-/20-node table faces (one line; also the imported meshes' refusal,
+# deckbridge/importers/quadratic.py). Measured in tests/test_pads_quadratic.py; numbers in docs/elements.md, "Pads".
+PADS_REASON = ("on 10-/15-/20-node faces the pad edge's singular pressure undershoots half a cell inside the edge and "
+               "the face-weighted Lagrange law opens those rows under N alone (hex20 96 x 12 x 2: 18 of 69 rows a pad, "
+               "pressing up to 1.3 um into the table, where a fine hex8i skirt carries 1.2 x the pad's mean pressure), "
+               "so liftoff would read lambda = 0 (docs/elements.md, Pads)")
+PADS_REASON_TET4 = ("4-node tetrahedra (constant strain, they fail the bending patch test) lift the outer and mid-wall "
+                    "pad rows under N alone (96 x 12 x 2: 10 of 27 rows a pad, where a fine hex8i skirt presses every "
+                    "node), so liftoff would read lambda = 0 (docs/elements.md, Pads)")
+
+
+def _build(model):
     """The skirt's :class:`SkirtMesh` in a quadratic or tetrahedral type: slave areas are positive (table:
     :func:`deckbridge.face_areas.contact_areas`, int Phi_a dA of the hat basis on 8-/6-node faces; top: HRZ
     lumping of each face's M; Simpson / trapezoid line weights x h_1 / 2 on the stop's
@@ -135,10 +185,6 @@ def build_any_order(model):
     from .mesh_data import SkirtMesh, _slave_set
     from .errors import ModelError
     g, ms, pen = model.geometry, model.mesh, model.contact.penalty
-    if model.contact.pads is not None:
-        raise ModelError("contact.pads", "set", f"needs mesh.element hex8i or hex8 (not {ms.element}): pads "
-                         "on quadratic or tetrahedral faces are not built yet (tried: the face-weighted law lifts pad "
-                         "nodes under N alone, where the 8-node skirt keeps every pad node pressed)")
     et = element_type(ms.element)
     nodes, cells, ijk = skirt_cells(model)
     nt, nr, nz = ms.n_theta, ms.n_r, ms.n_z
@@ -150,12 +196,15 @@ def build_any_order(model):
             warnings.warn(f"mesh.element = {ms.element}: {flagged.size} of {cells.shape[0]} elements have face "
                           "neighbours across fewer than two of their three directions, so C3D20R hourglass "
                           "(zero-energy) modes are possible: use hex20, or more elements along mesh.n_z / "
-                          "mesh.n_r", stacklevel=3)
+                          "mesh.n_r", stacklevel=4)
     kbulk, h1 = model.material.bulk_modulus, g.height / nz
     quadratic = et.name != "c3d4"
 
     on_table = ijk[:, 0] == 0
     tfaces = tuple(surface_faces(blocks, on_table))
+    base_elems = _elems_with_face(et, cells, on_table)
+    if model.contact.pads is not None:
+        tfaces, base_elems = _pad_faces(model, tfaces, cells, ijk, et)
     tnodes, tarea = contact_areas(tfaces, nodes)
     kc = pen.alpha * kbulk * tarea / h1
     one = lambda a: np.asarray(a)[:, None]  # noqa: E731
@@ -190,7 +239,7 @@ def build_any_order(model):
     return SkirtMesh(nodes=nodes, hexes=cells, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=top_w,
                      ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz,
-                     base_elems=_elems_with_face(et, cells, on_table), top_elems=_elems_with_face(et, cells, on_top),
+                     base_elems=base_elems, top_elems=_elems_with_face(et, cells, on_top),
                      stop_elems=stop_elems, element=et.name, table_faces=tfaces)
 
 

@@ -4,8 +4,8 @@ Nodal laws put the sign condition on nodal forces r [N]; on 8-node faces a unifo
 -1/12 of p A (6-node faces: 0), so they open every corner at zero load (``docs/elements.md``). Here the unknown
 on each surface is a pressure field p = sum_b lambda_b Phi_b [Pa] (lambda > 0 compressive) in a non-negative
 multiplier basis: the hat basis of :func:`reference_solver.face_weights.hat_mortar` (the earlier modified
-basis Phi = Q N of :func:`reference_solver.face_weights.multiplier_basis` had positive shares but was negative
-in parts of the face, so rows could close while the surface around them was open), with
+basis Phi = Q N of Wohlmuth / Popp et al., since removed, had positive shares but was negative in parts of
+the face, so rows could close while the surface around them was open), with
 
     D_ab = int Phi_a N_b dA [m^2],   nodal forces r = D^T lambda,   weighted gaps g~ = D g [m^3]
 

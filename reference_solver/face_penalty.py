@@ -15,10 +15,11 @@ nodes: the radial stop) keep the nodal bilinear spring k_c of PenaltyLaw. The en
 1/2 u'Su - f'u + 1/2 sum_points w K_eff g^2 is convex and piecewise quadratic: Newton on the active set of
 the *points* (a state that repeats is damped by an Armijo line search, as :func:`contact.penalty_solve`).
 
-Slope of a face [Pa/m], as the ccx deck derives it (``docs/ccx_f2f.md``): K = sum_a s_a (k_c,a / A_a) / sum_a
-s_a with s_a = int Phi_a dA (Phi = N on 4-/3-node faces: the nodal area shares; the positive multiplier basis
-of :func:`face_weights.multiplier_basis` on 8-/6-node faces) and A_a = ``contact_area``: a uniform
-penetration d gives each node of a 4-node face exactly k_c,a d when k_c / A is uniform, the model's rule.
+Slope of a face [Pa/m]: :func:`face_weights.face_slope`, the one weighting the ccx deck uses too
+(``docs/ccx_f2f.md``): K = sum_a s_a (k_c,a / A_a) / sum_a s_a with s_a = int Phi_a dA (Phi = N on 4-/3-node
+faces: the nodal area shares; the hat multiplier basis on 8-/6-node faces, whose sums are the rows' areas) and
+A_a = ``contact_area``: sum over the faces of K x area = sum of k_c (any k), and a uniform penetration d gives
+each node of a 4-node face exactly k_c,a d when k_c / A is uniform, the model's rule.
 
 Quadrature (chosen to be CalculiX's on a master that matches the slave node for node, as the deck's table).
 What ccx 2.20 does (slavintpoints.f, treatmasterface.f, read, not copied): the slave face is projected on
@@ -52,7 +53,7 @@ import scipy.sparse as sp
 
 from .contact import Unbounded
 from .errors import ReferenceSolverError
-from .face_weights import face_shares, multiplier_basis, surface_faces
+from .face_weights import face_slope, surface_faces
 from .laws import WEIGHTED_LAWS, ContactLaw
 
 _A1, _A2 = (6 - np.sqrt(15)) / 21, (6 + np.sqrt(15)) / 21
@@ -97,7 +98,6 @@ class FaceIntegration:
         rows, cols, vals, weights = [], [], [], []
         self.on_face = np.zeros(nc, bool)
         self.quadratic = False
-        q = p.contact_k / p.contact_area                                    # nodal slope k_c / A [Pa/m]
         npts = 0
         for label in np.unique(p.contact_surface):
             idx = np.flatnonzero(p.contact_surface == label)
@@ -108,8 +108,7 @@ class FaceIntegration:
             for ftype, conn in surface_faces(p.blocks, on):
                 xyz = p.nodes[conn]
                 r = row_of[conn]                                            # (nf, k) contact rows
-                s = face_shares(ftype, xyz) @ multiplier_basis(ftype).T     # int Phi_a dA (nf, k)
-                K = (s * q[r]).sum(axis=1) / s.sum(axis=1)                  # [Pa/m] per face
+                K = face_slope(ftype, xyz, p.contact_k[r], p.contact_area[r])  # [Pa/m] per face
                 st, wn = face_points(ftype.name)
                 N = ftype.shape(st)                                         # (g, k)
                 d = ftype.dshape(st)

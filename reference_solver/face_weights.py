@@ -69,22 +69,6 @@ def surface_faces(blocks, on_surface: np.ndarray) -> list[tuple[FaceType, np.nda
     return [(types[k], np.concatenate(v)) for k, v in out.items()]
 
 
-def multiplier_basis(face: FaceType, alpha: float = 0.2) -> np.ndarray:
-    """Q (k, k): a multiplier (pressure) basis Phi_a = sum_b Q_ab N_b with positive shares on 8-/6-node faces
-    (Wohlmuth, Popp et al. 2012, modified quadratic basis): a corner takes alpha of each of its two edges'
-    mid-side functions, a mid-side keeps 1 - 2 alpha of its own. It sums to 1 and reproduces linear fields
-    (mid-sides at edge mid-points); shares with alpha = 1/5: quad8 corners +1/20, mid-sides 1/5 of A; tri6
-    2/15 and 1/5. 4- and 3-node faces: Q = I."""
-    k, nc = face.n_nodes, face.n_corners
-    Q = np.eye(k)
-    if k > nc:
-        for i in range(nc):                      # mid-side nc + i on the edge (corner i, corner i + 1)
-            m = nc + i
-            Q[m, m] = 1.0 - 2.0 * alpha
-            Q[i, m] = Q[(i + 1) % nc, m] = alpha
-    return Q
-
-
 def _hat_triangles(face: FaceType) -> list[np.ndarray]:
     """Sub-triangles of a quadratic face for :func:`hat_mortar`: each (3, k), the weights of its vertices on
     the face nodes (a node, or the centre of a quad8 = the mean of its mid-sides)."""
@@ -122,6 +106,40 @@ def hat_mortar(face: FaceType, xyz: np.ndarray) -> np.ndarray:
         jw = np.linalg.norm(np.cross(a, b), axis=2) * (tw * det)                # (nf, p)
         out += np.einsum("fp,pa,pb->fab", jw, phi, face.shape(pts))
     return out
+
+
+def multiplier_shares(face: FaceType, xyz: np.ndarray) -> np.ndarray:
+    """int Phi_a dA (nf, k) [m^2] of faces ``xyz`` (nf, k, 3) of type ``face``, Phi the multiplier basis of the
+    face-weighted laws: the hat basis on 8-/6-node faces (the row sums of :func:`hat_mortar`; regular quad8:
+    corners A/24, mid-sides 5 A/24; tri6: A/12, A/4), Phi = N on 4-/3-node faces (:func:`face_shares`).
+    Non-negative, summing to the face's area; summed over a surface's faces they are the rows' contact areas
+    (``deckbridge.face_areas.contact_areas`` on quadratic faces, its HRZ areas = these on triangles and
+    parallelograms)."""
+    if face.n_nodes > face.n_corners:
+        return hat_mortar(face, xyz).sum(axis=2)
+    return face_shares(face, xyz)
+
+
+def face_slope(face: FaceType, xyz: np.ndarray, k: np.ndarray, area: np.ndarray) -> np.ndarray:
+    """The penalty pressure slope K [Pa/m] of each face ``xyz`` (nf, k, 3) of type ``face``, from the stiffness
+    ``k`` [N/m] and the contact area ``area`` [m^2] of its nodes (both (nf, k), the rows' values; area > 0):
+
+        K_f = sum_a s_fa (k_a / A_a) / sum_a s_fa,   s_fa = int_f Phi_a dA  (:func:`multiplier_shares`).
+
+    The one weighting of the face-integrated penalty (``face_penalty.FaceIntegration``) and of the CalculiX
+    face-to-face deck's LINEAR slope on quadratic faces (``deckbridge.deck_elements.quadratic_face_slopes``).
+    Why these shares: a row's area A_a is the sum over its faces of s_fa (the hat areas of the face-weighted
+    laws), so giving each face the part s_fa / A_a of its node's k_a spreads every k_a exactly over its faces,
+    and sum_a s_fa = A_f (the Phi sum to 1): sum_f K_f A_f = sum_a k_a, the table's stiffness under a uniform
+    penetration d is the model's sum of k whatever k / A does (a block whose faces all get one K penetrates
+    p A / sum k under a pressure p). The shares are >= 0, so K_f lies between the face's smallest and largest
+    k / A. The consistent shares int N_a dA (quad8 corners -1/12 of A, tri6 corners 0) do neither: they do not
+    add up to the hat areas and a large corner k / A can pull K out of that range, even below 0. Where k / A is
+    uniform (the model's own penalty: alpha K_bulk / h1) every weighting gives K = k / A. On 4-/3-node faces
+    Phi = N: the nodal area shares, as before."""
+    s = multiplier_shares(face, xyz)
+    q = np.asarray(k, float) / np.asarray(area, float)
+    return (s * q).sum(axis=1) / s.sum(axis=1)
 
 
 def face_matrix(nodes: np.ndarray, faces, lumped: bool = False,

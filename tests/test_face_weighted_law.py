@@ -114,21 +114,3 @@ def test_face_lumped_weighting_refuses_penalty():
     pr, *_ = _problem("c3d8", [0, 0, -1e6 * A, -1e6 * A * L[1] / 2, 1e6 * Sx, 0], "face-lumped")
     with pytest.raises(rs.ReferenceSolverError, match="only the lagrange method"):
         rs.solve_path(rs.condense(pr), "penalty", base={"N": 1.0}, ramp={"T": 1.0}, increments=1)
-
-
-@pytest.mark.parametrize("face, corner, mid", [("quad8", 1 / 20, 1 / 5), ("tri6", 2 / 15, 1 / 5)])
-def test_multiplier_basis_has_positive_shares_and_reproduces_linear_fields(face, corner, mid):
-    """int Phi_a dA / A on one flat face (the modified basis, alpha = 1/5) and sum_a x_a Phi_a = x."""
-    from reference_solver.element_faces import FACE_TYPES
-    from reference_solver.face_weights import face_shares, multiplier_basis
-    ft = FACE_TYPES[face]
-    xyz = np.c_[ft.nodes * [2.0, 1.5], np.zeros(ft.n_nodes)][None]       # a flat face scaled in plan
-    Q = multiplier_basis(ft)
-    s = Q @ face_shares(ft, xyz)[0]
-    A = face_shares(ft, xyz)[0].sum()
-    nc = ft.n_corners
-    np.testing.assert_allclose(s[:nc] / A, corner, rtol=1e-12)
-    np.testing.assert_allclose(s[nc:] / A, mid, rtol=1e-12)
-    N = ft.shape(ft.points)                                                # (p, k) at the quadrature points
-    x = N @ xyz[0, :, 0]
-    np.testing.assert_allclose((N @ Q.T) @ xyz[0, :, 0], x, atol=1e-12)   # Phi reproduces x

@@ -166,9 +166,9 @@ def quadratic_mesh(model, cell_blocks, nodes, base, top, stop_set, node_ids, ele
         raise ModelError("mesh.sets.base", model.mesh.sets.base, f"node {int(node_ids[stray[0]])} is on no base "
                          "element face (every base node must be a node of a bottom face)")
     if model.contact.pads is not None:
+        from ..mesh_order import PADS_REASON
         raise ModelError("contact.pads", "set", f"needs 8-node hexahedra in an imported mesh (not {name.upper()}): "
-                         "pads on an imported quadratic mesh are not built yet (tried on the parametric skirt: the "
-                         "face-weighted law lifts pad nodes under N alone)")
+                         + PADS_REASON)
     base_elems = _per_block(ets, lambda et, c: _elems_with_face(et, c, on_base))
     z_span = np.concatenate([np.ptp(nodes[c, 2], axis=1) for _, c in ets])     # axial size of each cell [m]
     h1 = float(np.mean(z_span[base_elems]))

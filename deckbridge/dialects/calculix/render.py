@@ -53,7 +53,7 @@ from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_sl
 from ...units import scale
 from ...numbering.skirt import elem_ids, mesh_node_ids, mesh_node_index
 from ...deck_elements import base_faces, corner_spring_k, face_label_lines, quadratic_face_slopes
-from .quadratic_master import f2f_ring
+from .quadratic_master import f2f_ring, pair_masters
 from ...render._env import deck_paths, render
 from ...render.inp_cards import (clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context,
                                  spring_groups)
@@ -304,7 +304,7 @@ def _f2f_master(mesh: SkirtMesh, first_node: int, first_elem: int, t: float) -> 
     conn = np.hstack([bot_ids[faces], top_ids[faces]])         # same turn below, then above: S2 is the top
     elems = first_elem + np.arange(faces.shape[0])
     return {"top": ("NMTOP", top_ids, top_xyz), "bottom": ("NMBOT", bot_ids, bot_xyz),
-            "master_elems": element_lines(elems, conn), "table_master": face_lines(elems, FACE_TOP),
+            "master_elems": element_lines(elems, conn), "table_master": face_lines(elems, FACE_TOP), "elems": elems,
             "pairs": [f"** deckbridge-f2f-master {s} {m}" for s, m in zip(mesh_node_ids(mesh, tab), top_ids)]}
 
 
@@ -325,7 +325,7 @@ def f2f_context(model: Model, mesh: SkirtMesh) -> dict:
     else:
         slope = f2f_face_slopes(mesh)
         stick = f2f_face_slopes(mesh, mesh.k_tangent) if mu > 0 else np.zeros_like(slope)
-    groups, left = [], np.ones(slope.size, bool)
+    groups, masks, left = [], [], np.ones(slope.size, bool)
     while left.any():              # faces of equal slopes (1e-6) share a surface and an interaction
         i0 = np.flatnonzero(left)[0]
         same = left & (np.abs(slope - slope[i0]) <= 1e-6 * abs(slope[i0])) & (
@@ -336,17 +336,21 @@ def f2f_context(model: Model, mesh: SkirtMesh) -> dict:
                        "line": f"{real(k0 * u.stress / u.length)}, {real(mesh.k_open_ratio * k0 * t * u.stress)}",
                        "friction": f"{real(mu)}, {real(stick[i0] * u.stress / u.length)}" if mu > 0 else ""})
         left &= ~same
+        masks.append(same)
     gap_ids = ccx_gaps(model, mesh, "f2f", lay)
     ctx.update(_gaps(model, mesh, gap_ids, lambda ss: ss.k))
     first = (lay.next_node + gap_ids.ground.size, lay.first_gap_elem + gap_ids.elem.size)
     master = f2f_ring(model, mesh, *first) if quad else _f2f_master(mesh, *first, t)
-    ctx.update(f2f_groups=groups, table_master=master["table_master"], master_elems=master["master_elems"],
-               quadratic=quad)
+    surfaces, copies, copy_elems = pair_masters(model, mesh, master, masks, quad)   # one master per pair
+    for g, (name, lines) in zip(groups, surfaces):
+        g.update(master=name, master_faces=lines)
+    ctx.update(f2f_groups=groups, table_master=master["table_master"], quadratic=quad, master_copies=copies[1].size,
+               master_elems="\n".join(x for x in (master["master_elems"], copy_elems) if x))
     if not quad:
         ctx["meta"] = ctx["meta"] + ["** deckbridge-f2f-master slave master (the master top node under each table "
                                      "slave node: its RF is the slave's contact force)"] + master["pairs"]
-    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"], master["top"], master["bottom"]],
-                          u.length, mesh.node_ids))
+    ctx.update(node_block(mesh.nodes, lay.ref_node, lay.ref_xyz, [ctx["ground"], master["top"], master["bottom"],
+                                                                   copies], u.length, mesh.node_ids))
     return ctx
 
 
