@@ -33,6 +33,7 @@ CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20
             "c3d15": "C3D15", "c3d4": "C3D4", "c3d6": "C3D6"}
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
 NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps"}
+MIXED_DIALECTS = ("calculix", "abaqus", "nastran")   # decks written for a first-order mixed mesh (C3D8I + C3D6)
 
 
 def element_problem(dialect: str, model, mesh) -> str | None:
@@ -41,10 +42,10 @@ def element_problem(dialect: str, model, mesh) -> str | None:
     if el == "c3d8i":
         return None
     key = " = ".join(element_key(model, mesh))   # the imported file's types, not mesh.element's default
-    if getattr(mesh, "blocks", ()):              # a mixed imported mesh (issue 23): the CalculiX mortar deck only
-        return (None if dialect == "calculix" and not mesh.quadratic_faces and mesh.stop is None else
+    if getattr(mesh, "blocks", ()):              # a mixed imported mesh (issue 23): first order without the stop
+        return (None if dialect in MIXED_DIALECTS and not mesh.quadratic_faces and mesh.stop is None else
                 f"{key}: this dialect's decks are not written for a mixed mesh yet (first order without the radial "
-                "stop: the calculix mortar deck)")
+                f"stop: {', '.join(MIXED_DIALECTS)})")
     if getattr(mesh, "quadratic_faces", False):
         if dialect == "calculix":
             if mesh.stop is not None:

@@ -142,26 +142,45 @@ def test_messages_name_the_file_and_its_types(tmp_path, second):
 
 
 def test_outputs_and_decks_of_a_mixed_mesh(tmp_path, first):
-    """solve writes its VTUs with one cell block per type (read back by meshio); of the decks only the CalculiX
-    mortar deck is written, every other dialect is left out with one line naming the file's types."""
+    """solve writes its VTUs with one cell block per type (read back by meshio). The decks of a first-order mixed
+    mesh without the stop -- Abaqus (Lagrange, augmented), CalculiX mortar, Nastran CGAP -- carry both types, read
+    back by deckbridge's .inp reader and pyNastran: every skirt element once with its own type and nodes (one
+    *ELEMENT and element set per type; CHEXA and CPENTA); MYSTRAN and nastran_surface are left out in one line
+    naming the file's types, and with the radial stop every dialect is."""
     import meshio
+    from pyNastran.bdf.bdf import read_bdf
 
+    from deckbridge.deck_elements import element_problem
     from deckbridge.errors import DeckUnsupported
+    from deckbridge.importers.inp_file import read_inp
+    from deckbridge.numbering.skirt import mesh_node_ids
     from deckbridge.render import render_all
     from deckbridge.solve import solve_system, write_outputs
     m = _model(first, "inp", "outputs.vtu=true")
     mesh, system = condense_model(m)
     df, summary, sol = solve_system(m, mesh, system, "lagrange")
     write_outputs(tmp_path / "out", m, system, sol, df, summary, mesh)
+    n_hex, n_wedge = first["counts"]["Hexahedron 8"], first["counts"]["Prism 6"]
     vtu = meshio.read(tmp_path / "out" / "result.vtu")
-    assert {c.type: len(c.data) for c in vtu.cells} == {"hexahedron": first["counts"]["Hexahedron 8"],
-                                                        "wedge": first["counts"]["Prism 6"]}
+    assert {c.type: len(c.data) for c in vtu.cells} == {"hexahedron": n_hex, "wedge": n_wedge}
     assert all(len(v) == 2 for v in vtu.cell_data.values())
     notes = []
     render_all(m, tmp_path / "decks", mesh=mesh, on_unsupported=notes.append)
-    assert notes and all(isinstance(n, DeckUnsupported) for n in notes)
-    assert len(notes) == 4 and all("mesh.file = skirt.inp (C3D8I + C3D6): " in str(n) for n in notes)
-    assert [p.name for p in (tmp_path / "decks").glob("*.inp")] == [f"{m.name}_ccx_lagrange.inp"]   # mortar only
+    assert len(notes) == 2 and all(isinstance(n, DeckUnsupported) for n in notes)
+    assert all("mesh.file = skirt.inp (C3D8I + C3D6): " in str(n) for n in notes)
+    want = {"C3D8I": {tuple(c) for c in mesh_node_ids(mesh, mesh.cell_blocks[0][1])},
+            "C3D6": {tuple(c) for c in mesh_node_ids(mesh, mesh.cell_blocks[1][1])}}
+    for deck in ("lagrange", "augmented", "ccx_lagrange"):
+        raw = read_inp(tmp_path / "decks" / f"{m.name}_{deck}.inp")
+        for t, cells in want.items():
+            assert {tuple(c) for c in raw.elements[t][1]} == cells, (deck, t)
+    bdf = read_bdf(str(tmp_path / "decks" / f"{m.name}_penalty.bdf"), xref=False, debug=None)
+    assert {tuple(e.node_ids) for e in bdf.elements.values() if e.type == "CHEXA"} == want["C3D8I"]
+    assert {tuple(e.node_ids) for e in bdf.elements.values() if e.type == "CPENTA"} == want["C3D6"]
+    stop = _model(first, "inp", "contact.stop.side=inner")
+    stop_mesh = build_mesh(stop)
+    for dialect in ("calculix", "abaqus", "nastran"):
+        assert "radial stop" in element_problem(dialect, stop, stop_mesh)
 
 
 def test_run_with_ccx_on_hexahedra_and_wedges(tmp_path):
