@@ -124,6 +124,17 @@ def test_first_and_second_order_together_refused(tmp_path):
     assert "node-based" in msg and "face-weighted" in msg
 
 
+def test_hexahedra_with_tetrahedra_refused(tmp_path):
+    nodes = "\n".join(f"{i}, {1.5 + 0.01 * (i % 2)}, {0.01 * i}, {0.1 * (i // 8)}" for i in range(1, 31))
+    path = tmp_path / "hex_tet.inp"
+    path.write_text(f"*NODE\n{nodes}\n*ELEMENT, TYPE=C3D20, ELSET=A\n1, " + ", ".join(map(str, range(1, 17)))
+                    + ",\n" + ", ".join(map(str, range(17, 21))) + "\n*ELEMENT, TYPE=C3D10, ELSET=B\n2, "
+                    + ", ".join(map(str, range(21, 31))) + "\n*NSET, NSET=BASE\n1\n*NSET, NSET=TOP\n5\n")
+    with pytest.raises(ModelError, match=r"^mesh\.file = .*1 elements of type C3D20 \(hexahedra\) and 1 of type "
+                                         r"C3D10 \(tetrahedra\): their faces do not conform"):
+        build_mesh(load(None, [f"mesh.file={path}", "mesh.sets={base: BASE, top: TOP}"]))
+
+
 def test_messages_name_the_file_and_its_types(tmp_path, second):
     """An imported quadratic mesh's refusals name mesh.file and the file's element types, never
     mesh.element = hex8i (the parametric skirt's key, left at its default by an import)."""

@@ -19,7 +19,8 @@ def solid_elements(raw, key: str = "mesh.file") -> list[tuple[str, np.ndarray, n
     CPS4 / CPS8 / S4 / CQUAD4 / CTRIA6, beams, springs) are ignored: their nodes are solid nodes and they may
     define the node sets. Several solid types are taken when they are of one :data:`FAMILIES` member (a mixed
     mesh: hexahedra and wedges of one order, 10-node tetrahedra with 15-node wedges); first- and second-order
-    solids together, and a type deckbridge does not take (C3D4, pyramids), are refused, named."""
+    solids together, hexahedra with tetrahedra (no conforming face without pyramids), and a type deckbridge does
+    not take (C3D4, pyramids), are refused, named."""
     from ..errors import ModelError
     from .quadratic import solver_element
     solids = {t: (i, c) for t, (i, c) in raw.elements.items() if is_solid(t)}
@@ -41,6 +42,13 @@ def solid_elements(raw, key: str = "mesh.file") -> list[tuple[str, np.ndarray, n
                          f"{t2} ({c2.shape[1]}-node): first- and second-order solids are not mixed in one mesh (contact "
                          "on 4-/3-node faces is node-based, on 8-/6-node faces face-weighted, and a linear face "
                          "does not conform to a quadratic one): mesh it in one order")
+    hexa = [t for t in solids if kinds[t] in ("c3d8i", "c3d20", "c3d20r")]
+    tets = [t for t in solids if kinds[t] == "c3d10"]
+    if hexa and tets:
+        raise ModelError(key, raw.path, f"{len(solids[hexa[0]][0])} elements of type {hexa[0]} (hexahedra) and "
+                         f"{len(solids[tets[0]][0])} of type {tets[0]} (tetrahedra): their faces do not conform "
+                         "(quadrilateral against triangle; a mesh of both needs pyramids, which deckbridge does not "
+                         "take): join them through wedges, or mesh in one type")
     ids = np.concatenate([i for i, _ in solids.values()])
     u, cnt = np.unique(ids, return_counts=True)
     if (cnt > 1).any():
