@@ -281,7 +281,7 @@ def _occ_tube(gmsh, R, t, H, size) -> dict:
 
 
 def gmsh_mixed(outdir: Path, order: int = 1, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=2,
-               tri_quarters=(1, 3)) -> dict:
+               tri_quarters=(1, 3), tet_layers: int = 0) -> dict:
     """A mixed skirt as an analyst meshes it with the Gmsh API: the base annulus (four 90-degree quarters,
     transfinite) meshed quad-dominant -- quarters ``tri_quarters`` (0: 0-90 deg, ...) in triangles, the others
     recombined into quadrilaterals -- and extruded along z in ``n_z`` recombined layers: hexahedra over the
@@ -289,12 +289,15 @@ def gmsh_mixed(outdir: Path, order: int = 1, R=1.5, t=0.02, H=2.0, n_theta=48, n
     ``Mesh.ElementOrder`` 2 with ``Mesh.SecondOrderIncomplete`` 1 (20-node hexahedra, 15-node wedges, mid-side
     nodes on the true circles). Written by ``gmsh.write`` as ``skirt.msh`` (4.1), ``skirt.inp`` (*NSET BASE / TOP
     through ``Mesh.SaveGroupsOfNodes``) and ``skirt.bdf`` (``Mesh.BdfFieldFormat`` 2), plus ``base.txt`` /
-    ``top.txt``. Returns {'msh', 'inp', 'bdf': path, 'sets': {fmt: mesh.sets value}, 'counts': {Gmsh element
-    type name: count}}."""
+    ``top.txt``. ``tet_layers`` > 0: every quarter in triangles, the lowest ``n_z - tet_layers`` layers extruded
+    recombined (prisms: a wedge layer at the base) and the top ``tet_layers`` layers not recombined (Gmsh cuts each
+    prism into three tetrahedra), of height H tet_layers / n_z; the two volumes meet on triangles. Returns
+    {'msh', 'inp', 'bdf': path, 'sets': {fmt: mesh.sets value}, 'counts': {Gmsh element type name: count}}."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     args = json.dumps({"mixed": order, "outdir": str(outdir), "R": R, "t": t, "H": H, "n_theta": n_theta,
-                       "n_z": n_z, "n_r": n_r, "tri_quarters": list(tri_quarters)})
+                       "n_z": n_z, "n_r": n_r, "tri_quarters": list(range(4)) if tet_layers else list(tri_quarters),
+                       "tet_layers": tet_layers})
     subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
     info = json.loads((outdir / "gmsh_info.json").read_text())
     sets = {"msh": "{base: BASE, top: TOP}", "inp": "{base: BASE, top: TOP}",
@@ -302,7 +305,7 @@ def gmsh_mixed(outdir: Path, order: int = 1, R=1.5, t=0.02, H=2.0, n_theta=48, n
     return {**{f: outdir / f"skirt.{f}" for f in ("msh", "inp", "bdf")}, "sets": sets, **info}
 
 
-def _mixed_in_this_process(outdir: Path, order, R, t, H, n_theta, n_z, n_r, tri_quarters) -> None:
+def _mixed_in_this_process(outdir: Path, order, R, t, H, n_theta, n_z, n_r, tri_quarters, tet_layers=0) -> None:
     """The Gmsh part of :func:`gmsh_mixed` (child process)."""
     import gmsh
     gmsh.initialize(["-noenv"])
@@ -330,10 +333,14 @@ def _mixed_in_this_process(outdir: Path, order, R, t, H, n_theta, n_z, n_r, tri_
             if q not in tri_quarters:
                 geo.mesh.setRecombine(2, s)
         vols, tops = [], []
+        low = n_z - tet_layers
         for s in surfs:
-            out = geo.extrude([(2, s)], 0, 0, H, numElements=[n_z], recombine=True)
-            tops.append(out[0][1])
+            out = geo.extrude([(2, s)], 0, 0, H * low / n_z, numElements=[low], recombine=True)
             vols.append(out[1][1])
+            if tet_layers:
+                out = geo.extrude([out[0]], 0, 0, H * tet_layers / n_z, numElements=[tet_layers], recombine=False)
+                vols.append(out[1][1])
+            tops.append(out[0][1])
         geo.synchronize()
         gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
         groups = {name: gmsh.model.addPhysicalGroup(2, f, name=name) for name, f in (("BASE", surfs), ("TOP", tops))}

@@ -7,7 +7,8 @@ wedges (prisms) stand on a base of quadrilateral and triangle faces -- written b
 (face-weighted on 8-/6-node faces). Through-wall sigma_N per azimuth (-Sum force / Sum area of the row, the
 project's quantity) against thin-ring beam theory N/(2 pi R t) + M cos(theta)/(pi R^2 t), largest error as a
 fraction of the peak. Measured: hex8 + wedge6 0.0057 (the same generator all hexahedra: 0.0028); hex20 + wedge15
-0.0162 on 48 around, 0.0055 on 96 (all hexahedra 0.0020 / 0.0012): the wedge quarters' rows converge.
+0.0162 on 48 around, 0.0055 on 96 (all hexahedra 0.0020 / 0.0012): the wedge quarters' rows converge; tet10 over a
+wedge15 base layer 0.0167 / 0.0056.
 Sum F = N and Sum sigma_N A = -N to ~1e-13. Gmsh's .msh of 15-node wedges is not read (meshio 5.3 has no
 'wedge15' for Gmsh): refused in one line that names the .inp / .bdf.
 """
@@ -85,6 +86,17 @@ def test_first_order_hexahedra_and_wedges(first, fmt):
 def test_second_order_hexahedra_and_wedges(second, fmt):
     mesh, p = _solve_and_check(second, fmt, ("c3d20", "c3d15"), ["quad8", "tri6"], 0.02)
     assert p.contact_weighting == "face" and mesh.quadratic_faces
+
+
+@pytest.mark.parametrize("fmt", ["inp", "bdf"])
+def test_tetrahedra_over_a_wedge_layer(tmp_path_factory, fmt):
+    """10-node tetrahedra over one layer of 15-node wedges at the base (a prism boundary layer), the two meeting
+    on 6-node triangles. Measured 48 x 6 x 1: 0.0167 of the peak (96: 0.0056; the triangulated base's rows, as
+    the wedge quarters of the hexahedral mixed mesh)."""
+    files = gmsh_mixed(tmp_path_factory.getbasetemp() / f"tet_wedge_{fmt}", order=2, n_theta=48, n_z=6, n_r=1,
+                       tet_layers=5)
+    mesh, p = _solve_and_check(files, fmt, ("c3d15", "c3d10"), ["tri6"], 0.02)
+    assert p.contact_weighting == "face"
 
 
 def test_gmsh_msh_of_wedge15_refused_naming_the_other_formats(second):
