@@ -40,8 +40,8 @@ def solid_elements(raw, key: str = "mesh.file") -> list[tuple[str, np.ndarray, n
                                               if family[kinds[a]] != family[kinds[b]])
         raise ModelError(key, raw.path, f"{len(i1)} elements of type {t1} ({c1.shape[1]}-node) and {len(i2)} of type "
                          f"{t2} ({c2.shape[1]}-node): first- and second-order solids are not mixed in one mesh "
-                         "(contact on 4-/3-node faces is node-based, on 8-/6-node faces face-weighted, and a linear face "
-                         "does not conform to a quadratic one): mesh it in one order")
+                         "(contact on 4-/3-node faces is node-based, on 8-/6-node faces face-weighted, and a linear "
+                         "face does not conform to a quadratic one): mesh it in one order")
     hexa = [t for t in solids if kinds[t] in ("c3d8i", "c3d20", "c3d20r")]
     tets = [t for t in solids if kinds[t] == "c3d10"]
     if hexa and tets:
