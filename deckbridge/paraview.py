@@ -223,15 +223,31 @@ def vtk_cells(cells: np.ndarray) -> tuple[str, np.ndarray]:
     """(meshio cell type, cells) of the skirt's cells (m, k) by their node count (issue 23; CalculiX and VTK
     share the node order). 15-node wedges go as their 6 corners: meshio 5.3 cannot hold 'wedge15'."""
     cells = np.asarray(cells, np.int64)
-    kind = {8: "hexahedron", 20: "hexahedron20", 10: "tetra10", 15: "wedge", 4: "tetra"}[cells.shape[1]]
+    kind = {8: "hexahedron", 20: "hexahedron20", 10: "tetra10", 15: "wedge", 6: "wedge", 4: "tetra"}[cells.shape[1]]
     return kind, (cells[:, :6] if cells.shape[1] == 15 else cells)
 
 
+def vtk_blocks(cells: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """:func:`vtk_cells` of each block of ``cells``: (m, k), or a mixed mesh's cells padded with -1
+    (``SkirtMesh.hexes``; consecutive rows with one node count are one block)."""
+    cells = np.asarray(cells, np.int64)
+    n = (cells >= 0).sum(axis=1)
+    cut = np.flatnonzero(np.diff(n)) + 1
+    return [vtk_cells(c[:, :int(k[0])]) for c, k in zip(np.split(cells, cut), np.split(n, cut))]
+
+
+def by_block(blocks, values: np.ndarray) -> list[np.ndarray]:
+    """Per-cell ``values`` split into meshio's one array per cell block of ``blocks`` [(kind, cells), ...]."""
+    return np.split(np.asarray(values), np.cumsum([len(c) for _, c in blocks])[:-1])
+
+
 def state_mesh(nodes: np.ndarray, hexes: np.ndarray, state: dict):
-    """meshio mesh of one state {'point', 'cell', ...} on the cells (any type of :func:`vtk_cells`)."""
+    """meshio mesh of one state {'point', 'cell', ...} on the cells (any type of :func:`vtk_cells`; a mixed mesh's
+    padded cells as one block per type)."""
     import meshio
-    return meshio.Mesh(nodes, [vtk_cells(hexes)], point_data=state["point"],
-                       cell_data={k: [v] for k, v in state["cell"].items()})
+    blocks = vtk_blocks(hexes)
+    return meshio.Mesh(nodes, blocks, point_data=state["point"],
+                       cell_data={k: by_block(blocks, v) for k, v in state["cell"].items()})
 
 
 def write_states(folder: Path, base: str, nodes: np.ndarray, hexes: np.ndarray, states: list[dict],
@@ -316,8 +332,9 @@ def result_mesh(p, sol, U: np.ndarray | None = None):
             sig[p.contact_nodes[rows]] = sol.sigma_n[last, rows]
             point[f"{surf}_sigma_n_step{s}_pa"] = sig
             point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
-        cell[f"von_mises_step{s}_pa"] = [vm]
-    return meshio.Mesh(p.nodes, [vtk_cells(b.cells) for b in p.blocks], point_data=point, cell_data=cell)
+        cell[f"von_mises_step{s}_pa"] = vm
+    blocks = [vtk_cells(b.cells) for b in p.blocks]
+    return meshio.Mesh(p.nodes, blocks, point_data=point, cell_data={k: by_block(blocks, v) for k, v in cell.items()})
 
 
 def write_reference_vtus(folder: str | Path, model, mesh: SkirtMesh, system, sol, base: str = "result",

@@ -28,6 +28,7 @@ from .friction_table import FRICTION_CSV, friction_table
 from .jsonable import json_clean
 from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
+from .mesh_data import element_key
 from .model import Model, ModelError
 from .outdir import staged
 from .numbering.skirt import mesh_node_ids
@@ -49,7 +50,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     if mesh.quadratic_faces:
         from .mesh_order import QUADRATIC_REFUSED
         if model.contact.tangential == "friction":
-            raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
+            raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
@@ -57,7 +58,8 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
     kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
     return rs.Problem(
-        nodes=mesh.nodes, hexes=mesh.hexes, element=mesh.element, E=model.material.E, nu=model.material.nu,
+        nodes=mesh.nodes, hexes=None if mesh.blocks else mesh.hexes, E=model.material.E, nu=model.material.nu,
+        element=mesh.cell_blocks[0][0], blocks=tuple(rs.ElementBlock(n, c) for n, c in mesh.blocks),
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
         contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
         spring_nodes=mesh.table.nodes[:0 if fric else None],
