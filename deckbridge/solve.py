@@ -40,6 +40,15 @@ from .tangent_springs import follow_springs
 SOURCE = "reference"
 
 
+def check_solvable(model: Model, mesh: SkirtMesh) -> None:
+    """Refuse (ModelError naming the element key) what the reference solver cannot solve on this mesh: friction
+    on quadratic contact faces (the face-weighted laws are frictionless). Called by :func:`build_problem` and by
+    the job before it writes anything."""
+    if mesh.quadratic_faces and model.contact.tangential == "friction":
+        from .mesh_order import QUADRATIC_REFUSED
+        raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
+
+
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
     faces get the face-weighted laws (``contact_weighting='face'``: Lagrange through the mortar matrix, penalty
@@ -47,10 +56,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     (the weighted laws are frictionless)."""
     mesh = mesh or build_mesh(model)
     weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face_law.py, face_penalty.py
-    if mesh.quadratic_faces:
-        from .mesh_order import QUADRATIC_REFUSED
-        if model.contact.tangential == "friction":
-            raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
+    check_solvable(model, mesh)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
