@@ -104,6 +104,32 @@ def reference_base_wall(p, u: np.ndarray, bottom_elems: np.ndarray, axis: str = 
     """:func:`base_wall` of the reference solution: element-node stresses of the bottom row ``bottom_elems``
     (element indices of the solver problem ``p``) averaged over the row's elements sharing a node; axial
     component."""
+    if len(p.blocks) > 1:                    # a mixed mesh (issue 23): each block's own element nodes
+        return _mixed_base_wall(p, u, np.asarray(bottom_elems, np.int64), axis)
     bottom = p.hexes[np.asarray(bottom_elems, np.int64)]
     avg, _ = nodal_average(corner_stress(p, u, bottom_elems), bottom, p.nodes.shape[0])
+    return base_wall(p.nodes, bottom, avg[:, AXES[axis]], axis)
+
+
+def _mixed_base_wall(p, u: np.ndarray, bottom_elems: np.ndarray, axis: str) -> BaseWall:
+    """:func:`reference_base_wall` on several element blocks: element-node stresses summed block by block
+    (:func:`reference_solver.stress.nodal_sums`), the row reduced on each block's corners (a shorter cell's row
+    filled with its first corner, which changes neither the row's nodes nor its angular span)."""
+    from reference_solver.stress import nodal_sums
+    n = p.nodes.shape[0]
+    total, count, corners, start = np.zeros((n, 6)), np.zeros(n), [], 0
+    for b in p.blocks:
+        m = b.cells.shape[0]
+        mine = bottom_elems[(bottom_elems >= start) & (bottom_elems < start + m)]
+        start += m
+        if mine.size == 0:
+            continue
+        cells = b.cells[mine - (start - m)]
+        t, c = nodal_sums(corner_stress(p, u, mine), cells, n)
+        total, count = total + t, count + c
+        corners.append(cells[:, :CORNERS.get(cells.shape[1], cells.shape[1])])
+    width = max(c.shape[1] for c in corners)
+    bottom = np.vstack([np.hstack([c, np.repeat(c[:, :1], width - c.shape[1], axis=1)]) for c in corners])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        avg = np.where(count[:, None] > 0, total / count[:, None], np.nan)
     return base_wall(p.nodes, bottom, avg[:, AXES[axis]], axis)

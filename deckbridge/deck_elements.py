@@ -27,10 +27,13 @@ import numpy as np
 
 from reference_solver.elements import element_type
 
+from .mesh_data import element_key
+
 CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20R", "c3d10": "C3D10",
-            "c3d15": "C3D15", "c3d4": "C3D4"}
+            "c3d15": "C3D15", "c3d4": "C3D4", "c3d6": "C3D6"}
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
 NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps"}
+MIXED_DIALECTS = ("calculix", "abaqus", "nastran")   # decks written for a first-order mixed mesh (C3D8I + C3D6)
 
 
 def element_problem(dialect: str, model, mesh) -> str | None:
@@ -38,7 +41,11 @@ def element_problem(dialect: str, model, mesh) -> str | None:
     el = getattr(mesh, "element", "c3d8i")
     if el == "c3d8i":
         return None
-    key = f"mesh.element = {model.mesh.element}"
+    key = " = ".join(element_key(model, mesh))   # the imported file's types, not mesh.element's default
+    if getattr(mesh, "blocks", ()):              # a mixed imported mesh (issue 23): first order without the stop
+        return (None if dialect in MIXED_DIALECTS and not mesh.quadratic_faces and mesh.stop is None else
+                f"{key}: this dialect's decks are not written for a mixed mesh yet (first order without the radial "
+                f"stop: {', '.join(MIXED_DIALECTS)})")
     if getattr(mesh, "quadratic_faces", False):
         if dialect == "calculix":
             if mesh.stop is not None:
@@ -82,11 +89,11 @@ def face_label_lines(mesh, elems: np.ndarray, ids: np.ndarray, z: float) -> str:
     """Element-based ``*SURFACE`` lines ``id, Sk`` of the faces of cells ``elems`` (indices; deck ids ``ids``)
     whose nodes all lie at height ``z`` [m] (1e-9 of the height): k = the face's place in the element's face
     order (CalculiX's S1, S2, ...)."""
-    et = element_type(mesh.element)
+    types = [element_type(n) for n, c in mesh.cell_blocks for _ in range(c.shape[0])]   # a mixed mesh: per cell
     on = np.abs(mesh.nodes[:, 2] - z) <= 1e-9 * np.ptp(mesh.nodes[:, 2])
     lines = []
     for e, eid in zip(np.asarray(elems, np.int64), ids):
-        for f, local in enumerate(et.faces):
+        for f, local in enumerate(types[e].faces):
             if on[mesh.hexes[e, list(local)]].all():
                 lines.append(f"{int(eid)}, S{f + 1}")
     return "\n".join(lines)

@@ -51,13 +51,17 @@ def contact_areas(faces, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def base_face_areas(nodes: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """Nodal areas [m^2] (n,) of the faces of ``cells`` (m, k: 4, 10, 15 or 20 nodes, CalculiX order) that lie
+    """Nodal areas [m^2] (n,) of the faces of ``cells`` (m, k: 4, 10, 15 or 20 nodes, CalculiX order; or a mixed
+    mesh's cells padded with -1, each row's type by its node count) that lie
     on their lowest plane (z within 1e-9 of the height span): :func:`hrz_areas`, positive, summing to the area."""
     from reference_solver.face_weights import surface_faces
-    et = element_type({4: "c3d4", 10: "c3d10", 15: "c3d15", 20: "c3d20"}[cells.shape[1]])
+    cells = np.asarray(cells, np.int64)
+    k = (cells >= 0).sum(axis=1)            # a mixed mesh's cells padded with -1 (SkirtMesh.hexes): by node count
+    names = {4: "c3d4", 6: "c3d6", 8: "c3d8", 10: "c3d10", 15: "c3d15", 20: "c3d20"}
+    blocks = tuple(rs.ElementBlock(element_type(names[int(n)]), cells[k == n][:, :n]) for n in np.unique(k))
     z = nodes[:, 2]
-    on = z <= z[np.unique(cells)].min() + 1e-9 * max(float(np.ptp(z)), 1e-300)
-    surf, area = hrz_areas(tuple(surface_faces((rs.ElementBlock(et, cells),), on)), nodes)
+    on = z <= z[np.unique(cells[cells >= 0])].min() + 1e-9 * max(float(np.ptp(z)), 1e-300)
+    surf, area = hrz_areas(tuple(surface_faces(blocks, on)), nodes)
     out = np.zeros(nodes.shape[0])
     out[surf] = area
     return out

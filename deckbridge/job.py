@@ -43,7 +43,7 @@ from .reference_f2f import f2f_series, wants_f2f
 from .studies.verdict import write_report_with_verdict
 from .report.caveats import reference_caveats
 from .results import SourceResult
-from .solve import condense_model, result_mesh, solve_system, write_outputs
+from .solve import check_solvable, condense_model, result_mesh, solve_system, write_outputs
 from .wall_stress import reference_section_onset, reference_wall, write_wall
 
 Echo = Callable[[str], None]
@@ -74,13 +74,16 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
                               f"(runnable: {', '.join(n for n, d in sorted(DIALECTS.items()) if d.runner)})")
     for d in chosen:
         d.check_run(model)
-    with replacing(outdir, "run", layout()) as out:
-        return _job(model, out, chosen, echo, ccx_timeout_s, methods)
-
-
-def _job(model: Model, out: Path, chosen: list, echo: Echo, timeout_s: float, methods=RUN_METHODS) -> dict:
     t0 = time.perf_counter()
     mesh = build_mesh(model)          # the one mesh of the job: decks, reference solver
+    check_solvable(model, mesh)       # refused before anything is written
+    with replacing(outdir, "run", layout()) as out:
+        return _job(model, out, mesh, chosen, echo, ccx_timeout_s, methods, t0)
+
+
+def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: float, methods=RUN_METHODS,
+         t0: float | None = None) -> dict:
+    t0 = time.perf_counter() if t0 is None else t0
     decks = render_all(model, out / "decks", mesh=mesh,
                        on_unsupported=lambda exc: echo(exc.note()))
     echo(f"decks: {len(decks)} files in {out / 'decks'}")

@@ -37,11 +37,12 @@ FLOOR_BYTES_PER_DOF = 1e3    # the sparse stiffness alone (>= 81 nonzeros x 12 b
 QUICK_BASE_BYTES = 250 * 2**20   # reference_solver.estimate.BASE_BYTES (not imported: the quick bound imports nothing)
 DENSE_BYTES = 10 * 8         # about ten nr x nr float64 arrays of the condensed contact problem [bytes/entry]
 SYMBOLIC_MAX_DOFS = 30e6     # above: refused on the quick estimate alone (the symbolic analysis itself would take GBs)
-# VTU stage (outputs.vtu), per element: the (8 Gauss points, 6, 24) float64 strain operator of
-# Element.gauss_strain_operator, built with about three such arrays alive at once, for one chunk of
-# STRESS_CHUNK elements at a time (reference_solver.recover.STRESS_CHUNK, 2048: about 0.06 GB)
+# VTU stage (outputs.vtu), per element of one chunk of STRESS_CHUNK elements (reference_solver.recover.
+# STRESS_CHUNK, 2048) on each of STRESS_THREADS threads: the displacement gradients, stresses and nodal values
+# of every state (Element.displacement_gradients: about 1.6-1.9 kB per state and 8-node hexahedron, 21-28 kB at
+# 13 states), counted in units of the (8 Gauss points, 6, 24) float64 strain operator that was built before
 STRAIN_OPERATOR_BYTES = 8 * 6 * 24 * 8
-STRAIN_OPERATOR_COPIES = 4.0      # the chunk's operator, its B_u, B_a and the states' strains (fitted, see below)
+STRAIN_OPERATOR_COPIES = 3.0      # fitted: the peak at 102k dof fell by 33 MiB when the operator (4 copies) went
 # every state's VTU data is held until the files are written: per node displacement 3, contact 8 (2
 # surfaces), tangential and friction 4, nodal stress and von Mises 7, the writer's copies; per element
 # stress and von Mises. Fitted on `deckbridge solve` at 102k and 205k dof after the stress recovery went
@@ -49,7 +50,7 @@ STRAIN_OPERATOR_COPIES = 4.0      # the chunk's operator, its B_u, B_a and the s
 STATE_POINT_FLOATS = 29
 STATE_CELL_FLOATS = 7
 STRESS_CHUNK = 2048               # reference_solver.recover.STRESS_CHUNK (not imported: a test checks they agree)
-STRESS_THREADS = 2                # reference_solver.recover.STRESS_THREADS: chunks whose operators are built at once
+STRESS_THREADS = 2                # reference_solver.recover.STRESS_THREADS: chunks recovered at once
 # the symbolic estimate's other terms (solve_estimate), fitted on the measured peaks of bench/memory_guard.py
 PROCESS_BYTES = 170 * 2**20        # interpreter, NumPy/SciPy/pandas/CHOLMOD, deckbridge
 FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and CHOLMOD's workspace

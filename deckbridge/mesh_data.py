@@ -41,11 +41,12 @@ def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.
     Cells of other types (``mesh.element``, issue 23: 4-, 10-, 15-, 20-node): the positive (HRZ) nodal areas
     of their faces on the lowest plane (:func:`deckbridge.face_areas.base_face_areas`)."""
     cells = np.asarray(bottom_hexes, np.int64)
-    if cells.shape[1] != 8:
+    mixed = bool((cells < 0).any())          # a mixed mesh's padded cells (SkirtMesh.blocks)
+    if cells.shape[1] != 8 or mixed:
         from .face_areas import base_face_areas
         area = base_face_areas(nodes, cells)
         wall_nodes = np.asarray(wall_nodes, np.int64)
-        if cells.shape[1] == 4:
+        if cells.shape[1] == 4 or (mixed and cells.shape[1] == 8):   # no mid-side nodes: every base node in a row
             return area[wall_nodes].sum(axis=1)
         return _to_nearest_rows(nodes, area, wall_nodes)   # mid-side nodes' areas to the corner azimuths
     faces = cells[:, :4]
@@ -162,8 +163,15 @@ class SkirtMesh:
     stop_elems: np.ndarray | None = None   # first-row hexahedra on the stop side (S6 inner / S4 outer)
     node_ids: np.ndarray | None = None     # user node id of every node (None: index + 1)
     elem_ids: np.ndarray | None = None     # user element id of every hexahedron (None: index + 1)
-    element: str = "c3d8i"                 # solver name of the cells' type (issue 23, mesh_order.py)
+    element: str = "c3d8i"                 # solver name of the cells' type (issue 23, mesh_order.py); mixed: 'a+b'
     table_faces: tuple | None = None       # quadratic/tet types: the table's faces [(FaceType, conn), ...]
+    blocks: tuple = ()                     # a mixed mesh: ((solver name, cells (m_b, k_b)), ...), cells numbered
+                                           # block by block; ``hexes`` then holds them padded with -1
+
+    @property
+    def cell_blocks(self) -> tuple:
+        """((solver name, cells), ...) in element order: a mixed mesh's ``blocks``, else ((element, hexes),)."""
+        return self.blocks or ((self.element, self.hexes),)
 
     @property
     def quadratic_faces(self) -> bool:
@@ -188,6 +196,19 @@ class SkirtMesh:
     def theta_deg(self) -> np.ndarray:
         """Azimuth of every node in [0, 360) degrees."""
         return azimuth_deg(self.nodes[:, 0], self.nodes[:, 1])
+
+
+def element_key(model, mesh) -> tuple[str, str]:
+    """(key, value) that name the skirt's element type in a one-line message: ``('mesh.element', 'hex20')`` on
+    the parametric skirt; on an imported mesh (``mesh.file`` set) the file with the CalculiX names of the solids
+    it was read as (``('mesh.file', 'skirt.inp (C3D20R)')``, a mixed mesh ``'skirt.inp (C3D20 + C3D15)'``):
+    ``mesh.element`` is the parametric skirt's key and keeps its default ``hex8i`` there."""
+    from pathlib import Path
+    file = getattr(model.mesh, "file", None)
+    if file is None:
+        return "mesh.element", str(model.mesh.element)
+    names = " + ".join(n.upper() for n in str(getattr(mesh, "element", "c3d8")).split("+"))
+    return "mesh.file", f"{Path(file).name} ({names})"
 
 
 def _slave_set(surface, nodes, slave_nodes, faces, a_nodes, k_share, k_explicit, normal, clearance):

@@ -22,17 +22,18 @@ Cell data: ``element_id``; ``bottom_row`` (1 for the element row on the table); 
 Stress tensors: Voigt order (xx, yy, zz, xy, yz, zx) [Pa], tension > 0.
 
 Cost (issue 22, bench/README.md): every state's displacement comes from ONE recover call (one
-multi-right-hand-side back substitution) and every state's stresses from one strain operator
-(:func:`reference_solver.recover.states_stress`); result.vtu (:func:`result_mesh`) takes its step ends
-from the same displacements. Each VTU is meshio's binary XML, zlib-compressed block by block at
-:data:`ZLIB_LEVEL` (meshio has no option for the level), several files at once on
-:func:`writer_threads` threads (zlib releases the GIL while it compresses, most of a write).
+multi-right-hand-side back substitution) and every state's stresses from the displacement gradients at the
+Gauss points, all states at once (:func:`reference_solver.recover.states_stress`); result.vtu (:func:`result_mesh`)
+takes its step ends from the same displacements and their centre stresses in one product
+(:func:`reference_solver.recover.centre_stress`). Each VTU is meshio's binary XML, zlib-compressed block by
+block at :data:`ZLIB_LEVEL` (meshio has no option for the level), blocks that hardly deflate (the float64
+results) stored at level 0, several files at once on :func:`writer_threads` threads (zlib releases the GIL
+while it compresses).
 """
 
 from __future__ import annotations
 
 import contextlib
-import functools
 import os
 import threading
 import xml.etree.ElementTree as ET
@@ -42,8 +43,8 @@ from pathlib import Path
 
 import numpy as np
 
-from reference_solver.fields import element_von_mises
-from reference_solver.recover import path_fields, states_stress
+from reference_solver.kinematics import von_mises
+from reference_solver.recover import centre_stress, path_fields, states_stress
 
 from .mesh import SkirtMesh
 from .numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
@@ -54,23 +55,43 @@ SURFACES = ("table", "stop")
 # arrays): level 6 (zlib's and meshio's default) 0.57 s and 4.79 MB, level 1 0.33 s and 4.84 MB
 # (1 % larger, 1.7x faster), no compression 0.10 s and 13.3 MB (base64).
 ZLIB_LEVEL = 1
+# Blocks whose first STORE_SAMPLE bytes deflate to more than STORE_RATIO of their size are stored (zlib level 0:
+# a valid zlib stream of stored deflate blocks, read as any other): the float64 results (displacements,
+# stresses, von Mises) deflate to only 0.81-0.87 at level 1, and took 94 % of a state's zlib time (100k dof,
+# 160 x 70 x 2: 104 of 111 ms per state) for 13-19 % of their bytes.
+STORE_SAMPLE = 4096
+STORE_RATIO = 0.75
 _PATCH = threading.Lock()
 
 
 class _LeveledZlib:
-    """The zlib module with ``compress`` at a fixed level (what meshio's VTU writer calls per block).
+    """The zlib module with ``compress`` at a fixed level (what meshio's VTU writer calls per block); blocks
+    that hardly deflate (judged on their first :data:`STORE_SAMPLE` bytes) are stored, level 0.
 
     A block met a second time within one batch of files is compressed once more and remembered; from
     its third time on the remembered bytes are returned (zlib is deterministic: the same bytes as
     compressing it). The series' states repeat their mesh (points, connectivity, ids, sets, areas: about
-    40 % of a state's bytes) and their all-zero blocks; a block seen once costs one hash in a set."""
+    40 % of a state's bytes) and their all-zero blocks. Only a block whose first :data:`STORE_SAMPLE`
+    bytes were met before is hashed whole (a block of results costs the hash of its sample)."""
 
     def __init__(self, level: int):
-        self._compress = functools.partial(zlib.compress, level=level)
+        self._level = level
+        self._heads: set[int] = set()
         self._seen: set[int] = set()
         self._memo: dict[bytes, bytes] = {}
 
+    def _compress(self, block: bytes) -> bytes:
+        if len(block) > 2 * STORE_SAMPLE and self._level > 0:
+            sample = block[:STORE_SAMPLE]
+            if len(zlib.compress(sample, self._level)) > STORE_RATIO * len(sample):
+                return zlib.compress(block, 0)
+        return zlib.compress(block, self._level)
+
     def compress(self, block: bytes) -> bytes:
+        head = hash(block[:STORE_SAMPLE])
+        if head not in self._heads:           # the first block with these first bytes: no whole-block hash
+            self._heads.add(head)
+            return self._compress(block)
         hit = self._memo.get(block)
         if hit is not None:
             return hit
@@ -202,15 +223,31 @@ def vtk_cells(cells: np.ndarray) -> tuple[str, np.ndarray]:
     """(meshio cell type, cells) of the skirt's cells (m, k) by their node count (issue 23; CalculiX and VTK
     share the node order). 15-node wedges go as their 6 corners: meshio 5.3 cannot hold 'wedge15'."""
     cells = np.asarray(cells, np.int64)
-    kind = {8: "hexahedron", 20: "hexahedron20", 10: "tetra10", 15: "wedge", 4: "tetra"}[cells.shape[1]]
+    kind = {8: "hexahedron", 20: "hexahedron20", 10: "tetra10", 15: "wedge", 6: "wedge", 4: "tetra"}[cells.shape[1]]
     return kind, (cells[:, :6] if cells.shape[1] == 15 else cells)
 
 
+def vtk_blocks(cells: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """:func:`vtk_cells` of each block of ``cells``: (m, k), or a mixed mesh's cells padded with -1
+    (``SkirtMesh.hexes``; consecutive rows with one node count are one block)."""
+    cells = np.asarray(cells, np.int64)
+    n = (cells >= 0).sum(axis=1)
+    cut = np.flatnonzero(np.diff(n)) + 1
+    return [vtk_cells(c[:, :int(k[0])]) for c, k in zip(np.split(cells, cut), np.split(n, cut))]
+
+
+def by_block(blocks, values: np.ndarray) -> list[np.ndarray]:
+    """Per-cell ``values`` split into meshio's one array per cell block of ``blocks`` [(kind, cells), ...]."""
+    return np.split(np.asarray(values), np.cumsum([len(c) for _, c in blocks])[:-1])
+
+
 def state_mesh(nodes: np.ndarray, hexes: np.ndarray, state: dict):
-    """meshio mesh of one state {'point', 'cell', ...} on the cells (any type of :func:`vtk_cells`)."""
+    """meshio mesh of one state {'point', 'cell', ...} on the cells (any type of :func:`vtk_cells`; a mixed mesh's
+    padded cells as one block per type)."""
     import meshio
-    return meshio.Mesh(nodes, [vtk_cells(hexes)], point_data=state["point"],
-                       cell_data={k: [v] for k, v in state["cell"].items()})
+    blocks = vtk_blocks(hexes)
+    return meshio.Mesh(nodes, blocks, point_data=state["point"],
+                       cell_data={k: by_block(blocks, v) for k, v in state["cell"].items()})
 
 
 def write_states(folder: Path, base: str, nodes: np.ndarray, hexes: np.ndarray, states: list[dict],
@@ -284,8 +321,10 @@ def result_mesh(p, sol, U: np.ndarray | None = None):
     point, cell = {}, {}
     ends = {s: int(np.flatnonzero(sol.step == s)[-1]) for s in (1, 2)}
     fields = sol.fields if U is None else step_end_fields(sol, U)
-    for s, u in sorted(fields.items()):
-        last = ends[s]
+    steps = sorted(fields)
+    centre = von_mises(centre_stress(p, np.stack([fields[s] for s in steps])))    # both step ends at once
+    for s, vm in zip(steps, centre):
+        u, last = fields[s], ends[s]
         point[f"displacement_step{s}_m"] = u
         for surf in np.unique(p.contact_surface):
             rows = p.contact_surface == surf
@@ -293,8 +332,9 @@ def result_mesh(p, sol, U: np.ndarray | None = None):
             sig[p.contact_nodes[rows]] = sol.sigma_n[last, rows]
             point[f"{surf}_sigma_n_step{s}_pa"] = sig
             point[f"{surf}_contact_pressure_step{s}_pa"] = np.maximum(-sig, 0.0)
-        cell[f"von_mises_step{s}_pa"] = [element_von_mises(p, u)]
-    return meshio.Mesh(p.nodes, [vtk_cells(b.cells) for b in p.blocks], point_data=point, cell_data=cell)
+        cell[f"von_mises_step{s}_pa"] = vm
+    blocks = [vtk_cells(b.cells) for b in p.blocks]
+    return meshio.Mesh(p.nodes, blocks, point_data=point, cell_data={k: by_block(blocks, v) for k, v in cell.items()})
 
 
 def write_reference_vtus(folder: str | Path, model, mesh: SkirtMesh, system, sol, base: str = "result",

@@ -28,6 +28,7 @@ from .friction_table import FRICTION_CSV, friction_table
 from .jsonable import json_clean
 from .azimuth import wrap_deg
 from .mesh import SkirtMesh, build_mesh
+from .mesh_data import element_key
 from .model import Model, ModelError
 from .outdir import staged
 from .numbering.skirt import mesh_node_ids
@@ -39,6 +40,15 @@ from .tangent_springs import follow_springs
 SOURCE = "reference"
 
 
+def check_solvable(model: Model, mesh: SkirtMesh) -> None:
+    """Refuse (ModelError naming the element key) what the reference solver cannot solve on this mesh: friction
+    on quadratic contact faces (the face-weighted laws are frictionless). Called by :func:`build_problem` and by
+    the job before it writes anything."""
+    if mesh.quadratic_faces and model.contact.tangential == "friction":
+        from .mesh_order import QUADRATIC_REFUSED
+        raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
+
+
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
     faces get the face-weighted laws (``contact_weighting='face'``: Lagrange through the mortar matrix, penalty
@@ -46,10 +56,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     (the weighted laws are frictionless)."""
     mesh = mesh or build_mesh(model)
     weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face_law.py, face_penalty.py
-    if mesh.quadratic_faces:
-        from .mesh_order import QUADRATIC_REFUSED
-        if model.contact.tangential == "friction":
-            raise ModelError("mesh.element", model.mesh.element, QUADRATIC_REFUSED)
+    check_solvable(model, mesh)
     rows = mesh.contact_rows
     th = np.radians(mesh.table.theta_deg)
     lv = model.load_vectors()
@@ -57,7 +64,8 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
     kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
     return rs.Problem(
-        nodes=mesh.nodes, hexes=mesh.hexes, element=mesh.element, E=model.material.E, nu=model.material.nu,
+        nodes=mesh.nodes, hexes=None if mesh.blocks else mesh.hexes, E=model.material.E, nu=model.material.nu,
+        element=mesh.cell_blocks[0][0], blocks=tuple(rs.ElementBlock(n, c) for n, c in mesh.blocks),
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
         contact_k=rows.k, contact_clearance=rows.clearance, contact_surface=rows.surface,
         spring_nodes=mesh.table.nodes[:0 if fric else None],

@@ -14,7 +14,9 @@ An element type (one instance per type, registered in :mod:`reference_solver.ele
   ``opposite_faces`` the pairs of opposite faces (:mod:`reference_solver.hourglass`).
 Computations (``xyz`` (ne, n, 3) node coordinates [m], E [Pa], nu): :meth:`stiffness_pairs`
 (ne, 3, 3, n, n) [N/m], :meth:`gauss_strain_operator` (ne, ng, 6, 3n), :meth:`volume_weights`
-(ne, ng) w det J [m^3], :meth:`centre_strain_operator` (ne, 6, 3n).
+(ne, ng) w det J [m^3], :meth:`centre_strain_operator` (ne, 6, 3n); for the stress recovery of many states
+:meth:`gauss_gradients` (ne, ng) det J and (ne, ng, 3, n) dN/dx, :meth:`displacement_gradients` du/dx of m
+states (ne, ng, 3, 3, m) and w det J, without the (ne, ng, 6, 3n) operator.
 Element dofs are (u_x, u_y, u_z) per node, node by node. Voigt order (xx, yy, zz, xy, yz, zx).
 """
 
@@ -23,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ReferenceSolverError
-from .kinematics import isotropic_pairs, jacobian, lame, strain_operator
+from .kinematics import det_inverse, isotropic_pairs, jacobian, lame, strain_operator
 from .polynomials import NodalBasis, exponents, monomials
 
 
@@ -105,6 +107,29 @@ class Element:
         by purely displacement-based elements)."""
         xyz = np.asarray(xyz, float)
         return np.stack([strain_operator(self.point_gradients(xyz, xi)[1]) for xi in self.points], 1)
+
+    def gauss_gradients(self, xyz: np.ndarray):
+        """det J (ne, ng) and spatial gradients dN_a/dx_i (ne, ng, 3, n) at every Gauss point, in one
+        batched product (what :meth:`point_gradients` gives point by point)."""
+        dn = self.dshape(self.points)                                       # (ng, 3, n)
+        det, inv = det_inverse(dn @ np.asarray(xyz, float)[:, None])        # J (ne, ng, 3, 3)
+        if np.any(~(det > 0)):
+            bad = int(np.flatnonzero(~(det > 0).all(axis=1))[0])
+            raise ReferenceSolverError(f"element {bad} ({self.name}): non-positive Jacobian "
+                                       "(inverted or degenerate element)")
+        return det, inv @ dn
+
+    def displacement_gradients(self, xyz: np.ndarray, ue: np.ndarray, E: float, nu: float):
+        """Displacement gradients H (ne, ng, 3, 3, m), H[..., i, c, s] = du_c/dx_i of state s at the Gauss
+        points, and the weights w det J (ne, ng) [m^3].
+
+        ``ue`` (ne, n, 3, m) element displacements [m] (node, component, state). The strains are
+        :func:`kinematics.gradient_to_strain` @ H: equal to :meth:`gauss_strain_operator` applied to each
+        state (to rounding), without building the operator (the stress recovery of a load path's states)."""
+        ne, n, _, m = ue.shape
+        det, grad = self.gauss_gradients(xyz)
+        H = grad.reshape(ne, -1, n) @ ue.reshape(ne, n, 3 * m)              # (ne, ng x 3, 3m)
+        return H.reshape(ne, -1, 3, 3, m), det * self.weights
 
     def centre_strain_operator(self, xyz: np.ndarray) -> np.ndarray:
         """B (ne, 6, 3n) at the element centre (the strain of a centre-point recovery)."""

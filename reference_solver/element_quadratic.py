@@ -1,5 +1,5 @@
 """Second-order solids and the tetrahedra: Hex20 (C3D20, 3x3x3), Hex20R (C3D20R, 2x2x2), Tet10 (C3D10),
-Wedge15 (C3D15), Tet4 (C3D4). Shape functions from their monomial spaces (:mod:`polynomials`).
+Wedge15 (C3D15), Tet4 (C3D4), Wedge6 (C3D6). Shape functions from their monomial spaces (:mod:`polynomials`).
 
 Node orders are CalculiX's (and VTK's for these types):
 - Hex20: corners as Hex8, then mid-sides of edges 1-2, 2-3, 3-4, 4-1, 5-6, 6-7, 7-8, 8-5, 1-5, 2-6, 3-7, 4-8;
@@ -9,7 +9,8 @@ Node orders are CalculiX's (and VTK's for these types):
   3-1, 4-5, 5-6, 6-4, then 1-4, 2-5, 3-6; space P2(triangle) x P1(zeta) + P1(triangle) zeta^2.
 Quadratures: exact for the stiffness of straight-edged affine elements (the patch tests), and for
 B^T sigma with sigma linear (the tilt patch test): Hex20 3x3x3, Hex20R 2x2x2 (reduced: hourglass modes
-possible in one-element rows), Tet10 4 points, Tet4 1 point, Wedge15 6-point triangle x 3 in zeta.
+possible in one-element rows), Tet10 4 points, Tet4 1 point, Wedge15 6-point triangle x 3 in zeta, Wedge6
+3-point triangle x 2 in zeta.
 Tet4 is constant strain: accepted, ``bending = False`` (it fails the bending patch test; mesh finely).
 """
 
@@ -82,6 +83,18 @@ class Tet4(Element):
     face_types = (TRI3,) * 4
     recovery = "1"
     bending = False
+
+
+class Wedge6(Element):
+    """6-node wedge (C3D6, issue 23: the prisms of a mixed first-order mesh beside hexahedra), 3-point
+    triangle rule x 2 Gauss points in zeta (exact for its stiffness on affine wedges)."""
+    name, aliases, meshio_type = "c3d6", ("wedge6",), "wedge"
+    nodes = WEDGE_CORNERS
+    basis = NodalBasis(WEDGE_CORNERS, exponents("1 x y z xz yz"))
+    points, weights = wedge_rule(2, 2)
+    faces = ((0, 1, 2), (3, 4, 5), (0, 1, 4, 3), (1, 2, 5, 4), (2, 0, 3, 5))
+    face_types = (TRI3, TRI3, QUAD4, QUAD4, QUAD4)
+    recovery = "1 x y z xz yz"
 
 
 class Wedge15(Element):

@@ -3,8 +3,8 @@
 Each type is an :class:`element_base.Element` (shape functions, quadrature, face rule, stress
 recovery; see that module): ``Hex8`` ('c3d8'), ``Hex8i`` ('c3d8i', incompatible modes, the default)
 in :mod:`element_hex8`; ``Hex20`` ('c3d20'), ``Hex20R`` ('c3d20r'), ``Tet10`` ('c3d10'), ``Wedge15``
-('c3d15'), ``Tet4`` ('c3d4') in :mod:`element_quadratic`. :func:`element_type` resolves a name or an
-alias ('hex8i', 'hex20r', 'tet10', ...) or passes an element object through.
+('c3d15'), ``Tet4`` ('c3d4'), ``Wedge6`` ('c3d6') in :mod:`element_quadratic`. :func:`element_type` resolves a
+name or an alias ('hex8i', 'hex20r', 'tet10', ...) or passes an element object through.
 
 Kept names (callers import them from here): :func:`elasticity_matrix`, :func:`strain_operator`,
 :func:`von_mises` (:mod:`kinematics`), :func:`shape_gradients` (trilinear hexahedron),
@@ -18,11 +18,12 @@ import numpy as np
 
 from .element_base import Element
 from .element_hex8 import Hex8, Hex8i, shape_gradients, shape_values
-from .element_quadratic import Hex20, Hex20R, Tet4, Tet10, Wedge15
+from .element_quadratic import Hex20, Hex20R, Tet4, Tet10, Wedge6, Wedge15
 from .errors import ReferenceSolverError
 from .kinematics import as_matrix, elasticity_matrix, isotropic_pairs, jacobian, lame, strain_operator, von_mises
 
-ELEMENT_TYPES: dict[str, Element] = {e.name: e for e in (Hex8i(), Hex8(), Hex20(), Hex20R(), Tet10(), Wedge15(), Tet4())}
+ELEMENT_TYPES: dict[str, Element] = {e.name: e for e in (Hex8i(), Hex8(), Hex20(), Hex20R(), Tet10(), Wedge15(), Tet4(),
+                                                         Wedge6())}
 ELEMENTS = tuple(ELEMENT_TYPES)                # solver names, 'c3d8i' first (the default)
 _BY_ALIAS = {a: e for e in ELEMENT_TYPES.values() for a in e.aliases}
 
@@ -30,7 +31,7 @@ _BY_ALIAS = {a: e for e in ELEMENT_TYPES.values() for a in e.aliases}
 _jacobian, _lame, _isotropic_pairs, _as_matrix = jacobian, lame, isotropic_pairs, as_matrix
 
 __all__ = ["ELEMENTS", "ELEMENT_TYPES", "Element", "element_type", "Hex8", "Hex8i", "Hex20", "Hex20R", "Tet10",
-           "Wedge15", "Tet4", "elasticity_matrix", "strain_operator", "von_mises", "shape_gradients",
+           "Wedge15", "Tet4", "Wedge6", "elasticity_matrix", "strain_operator", "von_mises", "shape_gradients",
            "shape_values", "hex8_stiffness_pairs", "hex8_stiffness", "centroid_strain", "element_stiffness"]
 
 

@@ -43,23 +43,40 @@ def strain_operator(grad: np.ndarray) -> np.ndarray:
     return B
 
 
+def gradient_to_strain() -> np.ndarray:
+    """(6, 9): engineering strains (Voigt xx, yy, zz, xy, yz, zx) = this @ H.ravel() of a displacement
+    gradient H (3, 3), H[i, c] = du_c/dx_i (the row-major order of :func:`strain_operator`'s gradients)."""
+    T = np.zeros((6, 3, 3))
+    for v, (i, c) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0))):
+        T[v, i, c] = 1.0
+        T[v, c, i] = 1.0
+    return T.reshape(6, 9)
+
+
 def jacobian(xyz: np.ndarray, dnat: np.ndarray):
     """J_ij = dx_j/dxi_i (ne, 3, 3), its determinant and inverse (closed-form 3x3 adjugate).
 
     ``xyz`` (ne, k, 3) node coordinates, ``dnat`` (3, k) shape-function derivatives at one point.
     """
     J = np.einsum("ia,eaj->eij", dnat, xyz)
-    a, b, c = J[:, 0, 0], J[:, 0, 1], J[:, 0, 2]
-    d, e, f = J[:, 1, 0], J[:, 1, 1], J[:, 1, 2]
-    g, h, k = J[:, 2, 0], J[:, 2, 1], J[:, 2, 2]
-    adj = np.empty_like(J)
-    adj[:, 0, 0], adj[:, 0, 1], adj[:, 0, 2] = e * k - f * h, c * h - b * k, b * f - c * e
-    adj[:, 1, 0], adj[:, 1, 1], adj[:, 1, 2] = f * g - d * k, a * k - c * g, c * d - a * f
-    adj[:, 2, 0], adj[:, 2, 1], adj[:, 2, 2] = d * h - e * g, b * g - a * h, a * e - b * d
-    det = a * adj[:, 0, 0] + b * adj[:, 1, 0] + c * adj[:, 2, 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = adj / det[:, None, None]
+    det, inv = det_inverse(J)
     return J, det, inv
+
+
+def det_inverse(J: np.ndarray):
+    """Determinants (...) and inverses (..., 3, 3) of 3x3 matrices ``J`` (..., 3, 3), closed-form adjugate
+    (inf / nan where det = 0)."""
+    a, b, c = J[..., 0, 0], J[..., 0, 1], J[..., 0, 2]
+    d, e, f = J[..., 1, 0], J[..., 1, 1], J[..., 1, 2]
+    g, h, k = J[..., 2, 0], J[..., 2, 1], J[..., 2, 2]
+    adj = np.empty_like(J)
+    adj[..., 0, 0], adj[..., 0, 1], adj[..., 0, 2] = e * k - f * h, c * h - b * k, b * f - c * e
+    adj[..., 1, 0], adj[..., 1, 1], adj[..., 1, 2] = f * g - d * k, a * k - c * g, c * d - a * f
+    adj[..., 2, 0], adj[..., 2, 1], adj[..., 2, 2] = d * h - e * g, b * g - a * h, a * e - b * d
+    det = a * adj[..., 0, 0] + b * adj[..., 1, 0] + c * adj[..., 2, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = adj / det[..., None, None]
+    return det, inv
 
 
 def isotropic_pairs(X: np.ndarray, Y: np.ndarray, lam: float, mu: float) -> np.ndarray:

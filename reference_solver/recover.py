@@ -14,15 +14,15 @@ import numpy as np
 from scipy import sparse
 
 from .condense import CondensedSystem
-from .kinematics import elasticity_matrix, von_mises
+from .kinematics import elasticity_matrix, gradient_to_strain, von_mises
 from .path import Solution
 
-# elements per chunk of the stress recovery: its strain operator 9.2 kB per 8-node hexahedron (19 MB),
-# about 3 such arrays alive while it is built; under glibc's 32 MB mmap threshold the freed arrays are
-# reused, not page-faulted afresh (8192: 1.6x the CPU, bench/README.md)
+# elements per chunk of the stress recovery: its displacement gradients, stresses and nodal values about
+# 1.6-1.9 kB per state and 8-node hexahedron (about 50 MB at 13 states); under glibc's 32 MB mmap threshold
+# for most of its arrays, so freed arrays are reused, not page-faulted afresh (8192: 1.6x the CPU, bench/README.md)
 STRESS_CHUNK = 2048
-# threads building the chunks' strain operators at once (at most the cores this process may use); each
-# holds one chunk's operator and results (about 0.06 GB), and at most two chunks wait to be summed
+# threads recovering chunks at once (at most the cores this process may use); each holds one chunk's arrays,
+# and at most two chunks wait to be summed
 STRESS_THREADS = 2
 
 
@@ -62,8 +62,8 @@ def path_fields(system: CondensedSystem, sol: Solution, rows=None) -> np.ndarray
 
 def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     """Stresses of m states with nodal displacements ``U`` (m, n, 3) [m] of problem ``p``. The elements
-    are taken ``chunk`` at a time (``Element.gauss_strain_operator`` of those elements, every state's
-    strains by one batched product): memory bounded by the chunk, not by the mesh.
+    are taken ``chunk`` at a time, every state at once (``Element.displacement_gradients`` at the Gauss points,
+    the states as the last axis; stress = D T du/dx): memory bounded by the chunk.
 
     Per state a dict: ``cell`` (ne, 6) volume average of the element's stress by its own quadrature,
     sum_g sigma_g w_g det J_g / sum_g w_g det J_g [Pa] (so that sum over a layer of elements of cell
@@ -73,10 +73,11 @@ def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     the node [Pa]; ``nodal_von_mises`` (n,) von Mises of the nodal average [Pa]. Nodes no element
     touches get 0. Elements are numbered block by block (``p.blocks``).
     """
-    D = elasticity_matrix(p.E, p.nu)
+    C = elasticity_matrix(p.E, p.nu) @ gradient_to_strain()      # (6, 9): stress of du/dx [Pa]
     n = p.nodes.shape[0]
     U = np.asarray(U, float).reshape(-1, n, 3)
     m = U.shape[0]
+    Ut = np.ascontiguousarray(U.transpose(1, 2, 0))                 # (n, 3, m): the states last
     ne = sum(len(b.cells) for b in p.blocks)
     cell, total, count = np.empty((m, ne, 6)), np.zeros((m, n, 6)), np.zeros(n)
     step = max(int(chunk), 1)
@@ -89,25 +90,38 @@ def states_stress(p, U: np.ndarray, chunk: int = STRESS_CHUNK) -> list[dict]:
     def chunk_stress(job):
         element, ext, cells, _ = job
         k, nn = cells.shape
-        xyz = p.nodes[cells]
-        w = element.volume_weights(xyz)
+        H, w = element.displacement_gradients(p.nodes[cells], Ut[cells], p.E, p.nu)   # (k, ng, 3, 3, m)
         w /= w.sum(axis=1, keepdims=True)
-        op = element.gauss_strain_operator(xyz, p.E, p.nu)                  # (k, ng, 6, 3 nn)
-        ue = U[:, cells].reshape(m, k, 3 * nn).transpose(1, 2, 0)[:, None]  # (k, 1, 3 nn, m)
-        g = np.matmul(op, ue).transpose(3, 0, 1, 2) @ D.T                  # (m, k, ng, 6) [Pa]
-        del op
-        return (w[:, None, :] @ g)[:, :, 0], (ext @ g).reshape(m, k * nn, 6)
+        g = (C @ H.reshape(k, -1, 9, m)).reshape(k, -1, 6 * m)              # (k, ng, 6m) [Pa]
+        return (w[:, None, :] @ g)[:, 0], (ext @ g).reshape(k * nn, 6 * m)
 
     # the chunks' element work on up to STRESS_THREADS threads (NumPy releases the GIL in it); the cell
     # values and the nodal sums taken in chunk order on this thread, so the sums are the same bits
     for (_, _, cells, at), (cell_k, at_nodes) in zip(jobs, _ordered_map(chunk_stress, jobs)):
         k, nn = cells.shape
-        cell[:, at:at + k] = cell_k
-        scatter = sparse.csr_matrix((np.ones(k * nn), (cells.ravel(), np.arange(k * nn))), shape=(n, k * nn))
-        for s in range(m):
-            total[s] += scatter @ at_nodes[s]
+        cell[:, at:at + k] = cell_k.reshape(k, 6, m).transpose(2, 0, 1)
+        lo, hi = int(cells.min()), int(cells.max()) + 1      # the nodes this chunk touches lie in [lo, hi)
+        scatter = sparse.csr_matrix((np.ones(k * nn), (cells.ravel() - lo, np.arange(k * nn))), shape=(hi - lo, k * nn))
+        total[:, lo:hi] += (scatter @ at_nodes).reshape(hi - lo, 6, m).transpose(2, 0, 1)
         count += np.bincount(cells.ravel(), minlength=n)
     nodal = total                                   # in place; nodes no element touches keep 0
     nodal /= np.maximum(count, 1)[:, None]
     return [{"cell": cell[s], "cell_von_mises": von_mises(cell[s]),
              "nodal": nodal[s], "nodal_von_mises": von_mises(nodal[s])} for s in range(m)]
+
+
+def centre_stress(p, U: np.ndarray) -> np.ndarray:
+    """Stresses (m, ne, 6) [Pa] at the element centres of m states ``U`` (m, n, 3) [m] (what
+    :func:`fields.element_stress` gives state by state: the compatible gradients at the centre, where the
+    c3d8i modes' gradient is zero), every state by one product per block."""
+    C = elasticity_matrix(p.E, p.nu) @ gradient_to_strain()
+    U = np.asarray(U, float).reshape(-1, p.nodes.shape[0], 3)
+    m = U.shape[0]
+    Ut = np.ascontiguousarray(U.transpose(1, 2, 0))                 # (n, 3, m)
+    out = []
+    for b in p.blocks:
+        k, nn = b.cells.shape
+        _, grad = b.element.point_gradients(p.nodes[b.cells], b.element.centre)     # (k, 3, nn)
+        H = grad @ Ut[b.cells].reshape(k, nn, 3 * m)                                   # (k, 3, 3m)
+        out.append((C @ H.reshape(k, 9, m)).transpose(2, 0, 1))
+    return np.concatenate(out, axis=1)

@@ -280,9 +280,94 @@ def _occ_tube(gmsh, R, t, H, size) -> dict:
     return {name: gmsh.model.addPhysicalGroup(2, f, name=name) for name, f in faces.items()}
 
 
+def gmsh_mixed(outdir: Path, order: int = 1, R=1.5, t=0.02, H=2.0, n_theta=48, n_z=6, n_r=2,
+               tri_quarters=(1, 3), tet_layers: int = 0) -> dict:
+    """A mixed skirt as an analyst meshes it with the Gmsh API: the base annulus (four 90-degree quarters,
+    transfinite) meshed quad-dominant -- quarters ``tri_quarters`` (0: 0-90 deg, ...) in triangles, the others
+    recombined into quadrilaterals -- and extruded along z in ``n_z`` recombined layers: hexahedra over the
+    quadrilaterals, prisms (wedges) over the triangles, a base of quad and triangle faces. ``order`` 2:
+    ``Mesh.ElementOrder`` 2 with ``Mesh.SecondOrderIncomplete`` 1 (20-node hexahedra, 15-node wedges, mid-side
+    nodes on the true circles). Written by ``gmsh.write`` as ``skirt.msh`` (4.1), ``skirt.inp`` (*NSET BASE / TOP
+    through ``Mesh.SaveGroupsOfNodes``) and ``skirt.bdf`` (``Mesh.BdfFieldFormat`` 2), plus ``base.txt`` /
+    ``top.txt``. ``tet_layers`` > 0: every quarter in triangles, the lowest ``n_z - tet_layers`` layers extruded
+    recombined (prisms: a wedge layer at the base) and the top ``tet_layers`` layers not recombined (Gmsh cuts each
+    prism into three tetrahedra), of height H tet_layers / n_z; the two volumes meet on triangles. Returns
+    {'msh', 'inp', 'bdf': path, 'sets': {fmt: mesh.sets value}, 'counts': {Gmsh element type name: count}}."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    args = json.dumps({"mixed": order, "outdir": str(outdir), "R": R, "t": t, "H": H, "n_theta": n_theta,
+                       "n_z": n_z, "n_r": n_r, "tri_quarters": list(range(4)) if tet_layers else list(tri_quarters),
+                       "tet_layers": tet_layers})
+    subprocess.run([sys.executable, __file__, args], check=True, timeout=300)
+    info = json.loads((outdir / "gmsh_info.json").read_text())
+    sets = {"msh": "{base: BASE, top: TOP}", "inp": "{base: BASE, top: TOP}",
+            "bdf": "{base: base.txt, top: top.txt}"}
+    return {**{f: outdir / f"skirt.{f}" for f in ("msh", "inp", "bdf")}, "sets": sets, **info}
+
+
+def _mixed_in_this_process(outdir: Path, order, R, t, H, n_theta, n_z, n_r, tri_quarters, tet_layers=0) -> None:
+    """The Gmsh part of :func:`gmsh_mixed` (child process)."""
+    import gmsh
+    gmsh.initialize(["-noenv"])
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("mixed")
+        geo = gmsh.model.geo
+        c = geo.addPoint(0, 0, 0)
+        ang = np.radians([0, 90, 180, 270])
+        pin = [geo.addPoint((R - t / 2) * np.cos(a), (R - t / 2) * np.sin(a), 0) for a in ang]
+        pout = [geo.addPoint((R + t / 2) * np.cos(a), (R + t / 2) * np.sin(a), 0) for a in ang]
+        radial = [geo.addLine(pin[q], pout[q]) for q in range(4)]
+        arc_in = [geo.addCircleArc(pin[q], c, pin[(q + 1) % 4]) for q in range(4)]
+        arc_out = [geo.addCircleArc(pout[q], c, pout[(q + 1) % 4]) for q in range(4)]
+        surfs = []
+        for q in range(4):
+            loop = geo.addCurveLoop([radial[q], arc_out[q], -radial[(q + 1) % 4], -arc_in[q]])
+            surfs.append(geo.addPlaneSurface([loop]))
+        for ln in radial:
+            geo.mesh.setTransfiniteCurve(ln, n_r + 1)
+        for ln in arc_in + arc_out:
+            geo.mesh.setTransfiniteCurve(ln, n_theta // 4 + 1)
+        for q, s in enumerate(surfs):
+            geo.mesh.setTransfiniteSurface(s)
+            if q not in tri_quarters:
+                geo.mesh.setRecombine(2, s)
+        vols, tops = [], []
+        low = n_z - tet_layers
+        for s in surfs:
+            out = geo.extrude([(2, s)], 0, 0, H * low / n_z, numElements=[low], recombine=True)
+            vols.append(out[1][1])
+            if tet_layers:
+                out = geo.extrude([out[0]], 0, 0, H * tet_layers / n_z, numElements=[tet_layers], recombine=False)
+                vols.append(out[1][1])
+            tops.append(out[0][1])
+        geo.synchronize()
+        gmsh.model.addPhysicalGroup(3, vols, name="SKIRT")
+        groups = {name: gmsh.model.addPhysicalGroup(2, f, name=name) for name, f in (("BASE", surfs), ("TOP", tops))}
+        gmsh.model.mesh.generate(3)
+        if order == 2:
+            gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 1)
+            gmsh.model.mesh.setOrder(2)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.option.setNumber("Mesh.SaveGroupsOfNodes", 1)
+        gmsh.option.setNumber("Mesh.BdfFieldFormat", 2)
+        for fmt in ("msh", "inp", "bdf"):
+            gmsh.write(str(outdir / f"skirt.{fmt}"))
+        for name, tag in groups.items():
+            ids = gmsh.model.mesh.getNodesForPhysicalGroup(2, tag)[0]
+            (outdir / f"{name.lower()}.txt").write_text("\n".join(str(int(i)) for i in ids) + "\n")
+        etypes, etags, _ = gmsh.model.mesh.getElements(3)
+        counts = {gmsh.model.mesh.getElementProperties(e)[0]: len(g) for e, g in zip(etypes, etags)}
+    finally:
+        gmsh.finalize()
+    (outdir / "gmsh_info.json").write_text(json.dumps({"counts": counts}))
+
+
 if __name__ == "__main__":
     kw = json.loads(sys.argv[1])
-    if "quadratic" in kw:
+    if "mixed" in kw:
+        _mixed_in_this_process(Path(kw.pop("outdir")), kw.pop("mixed"), **kw)
+    elif "quadratic" in kw:
         _quadratic_in_this_process(Path(kw.pop("outdir")), kw.pop("quadratic"), **kw)
     elif kw.pop("files", False):
         _files_in_this_process(Path(kw.pop("outdir")), **kw)

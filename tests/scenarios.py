@@ -52,6 +52,19 @@ REFUSED = [
     (["contact.tangential=friction", "contact.friction=0.3"], "mystran", "contact.tangential"),
 ]
 
+# Quadratic skirts (issue 23; tests/test_quadratic_offpath_matrix.py): levels of FACTORS plus 'element'
+# (mesh.element; an import case is Gmsh's second-order mesh, 20-node hexahedra). On 8-/6-node faces the
+# node-based radial stop, pads and friction are refused (docs/elements.md), so these keep no stop, a ring and
+# springs, and vary the rest.
+QUADRATIC_CASES = [
+    {"mesh": "parametric", "stop": "none", "n_r": 2, "t_over_r": 0.03, "pads": "ring", "cone": "cone",
+     "tangential": "springs", "units": "mm", "top": "kinematic", "nlgeom": False, "element": "hex20r"},
+    {"mesh": "msh", "stop": "none", "n_r": 1, "t_over_r": 0.012, "pads": "ring", "cone": "cylinder",
+     "tangential": "springs", "units": "mm", "top": "distributing", "nlgeom": False, "element": "hex20"},
+    {"mesh": "parametric", "stop": "none", "n_r": 1, "t_over_r": 0.005, "pads": "ring", "cone": "cylinder",
+     "tangential": "springs", "units": "SI", "top": "kinematic", "nlgeom": True, "element": "tet10"},
+]
+
 R, H, MU = 1.5, 2.0, 0.3
 CONE_TOP = 1.2                          # top mid-wall radius of the cone cases [m]
 PADS = "{count: 4, width_deg: 45, first_deg: 0}"   # pad edges on the 22.5 deg element boundaries of n_theta 16
@@ -120,7 +133,8 @@ class Case:
     def name(self) -> str:
         v = self.levels
         return "-".join([v["mesh"], f"stop_{v['stop']}", f"nr{v['n_r']}", f"tR{v['t_over_r']:g}", v["pads"],
-                         v["cone"], v["tangential"], v["units"], v["top"], "nlgeom" if v["nlgeom"] else "linear"])
+                         v["cone"], v["tangential"], v["units"], v["top"], "nlgeom" if v["nlgeom"] else "linear"]
+                        + ([v["element"]] if "element" in v else []))
 
     def overrides(self, mesh_files: dict | None = None) -> list[str]:
         """The model's ``--set`` overrides (``mesh_files``: :func:`gmsh_skirt.gmsh_files`'s answer for an import)."""
@@ -133,6 +147,8 @@ class Case:
                "outputs.vtu=false", "name=CASE"]
         if v["cone"] == "cone":
             out.append(f"geometry.top_radius={CONE_TOP}")
+        if "element" in v and v["mesh"] == "parametric":
+            out.append(f"mesh.element={v['element']}")
         if v["pads"] == "pads":
             out.append(f"contact.pads={PADS}")
         if v["tangential"] == "friction":
@@ -151,7 +167,7 @@ class Case:
         from gmsh_skirt import gmsh_files
         return gmsh_files(folder / "gmsh", R=R, t=v["t_over_r"] * R, H=H, n_theta=self.n_theta, n_z=self.n_z,
                           n_r=v["n_r"], top_radius=CONE_TOP if v["cone"] == "cone" else None,
-                          unit="mm" if v["units"] == "mm" else "m")
+                          unit="mm" if v["units"] == "mm" else "m", order=2 if "element" in v else 1)
 
 
 @dataclass
@@ -169,6 +185,17 @@ class Run:
     error: str | None = None
     overrides: tuple = ()
     si_twin: Path | None = None      # the SI twin's ccx penalty job of a mm case (scenario_checks, made once)
+
+    @property
+    def quadratic(self) -> bool:
+        """8-/6-node contact faces: no node-based ccx penalty deck there (docs/elements.md)."""
+        from deckbridge.mesh import build_mesh
+        return bool(build_mesh(self.model).quadratic_faces)
+
+    @property
+    def penalty_deck(self) -> str:
+        """The case's ccx penalty job: 'penalty' (node-to-surface), 'f2f' on 8-/6-node faces."""
+        return "f2f" if self.quadratic else "penalty"
 
 
 def with_min_increment(text: str, dt_min: float) -> str:

@@ -1,5 +1,5 @@
 """One state per ccx time point: the .dat prints a time to 7 significant digits, the .frd to 10
-(deckbridge/dialects/calculix/reader.py ``_on_frd_time``). With 3 increments the step-2 times are 4/3 and 5/3:
+(deckbridge/dialects/calculix/result_files.py ``_on_frd_time``). With 3 increments the step-2 times are 4/3 and 5/3:
 keyed apart, a state's forces (.dat) and its displacements or CPRESS (.frd) fell into two half-empty states
 (the quadratic face-to-face table read an all-zero state beside each real one; node-based gaps were NaN)."""
 
@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from deckbridge.dialects.calculix.reader import _on_frd_time
+from deckbridge.dialects.calculix.result_files import _on_frd_time
 from deckbridge.model import load
 
 needs_ccx = pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX ccx not installed")

@@ -51,3 +51,23 @@ def test_states_stress_by_chunks_is_the_homogeneous_stress(name, blocks, nodes, 
         assert np.abs(st["nodal"] - f * sigma).max() <= tol
         assert np.abs(st["cell_von_mises"] - von_mises(f * sigma)).max() <= tol
         assert np.abs(st["nodal_von_mises"] - von_mises(f * sigma)).max() <= tol
+
+
+@pytest.mark.parametrize("name", ["c3d8i", "c3d8", "c3d20", "c3d20r", "c3d10", "c3d15", "c3d4"])
+def test_states_stress_of_a_random_field_is_the_strain_operators(name):
+    """A random displacement field (the incompatible modes of c3d8i active, distorted elements): the stresses of
+    ``states_stress`` (displacement gradients, the modes condensed from K_au u_e) are those of the element's
+    (ng, 6, 3n) strain operator (``stress.gauss_stress``: the modes folded in by B-matrix condensation),
+    Gauss values averaged with w det J and extrapolated to the nodes, to 1e-12 of the largest stress."""
+    from reference_solver.stress import extrapolate_to_nodes, gauss_stress, nodal_average
+    nodes, cells = block_mesh(name, nx=3, ny=2, nz=2, jiggle=0.2)
+    p = _problem(nodes, [(name, cells)])
+    U = np.random.default_rng(7).standard_normal((2, len(nodes), 3)) * 1e-3
+    states = recover.states_stress(p, U, chunk=5)
+    w = p.blocks[0].element.volume_weights(nodes[cells])
+    for u, st in zip(U, states):
+        g = gauss_stress(p, u)
+        want_nodal, _ = nodal_average(extrapolate_to_nodes(g, name), cells, len(nodes))
+        tol = 1e-12 * np.abs(g).max()
+        assert np.abs(st["cell"] - np.einsum("eg,egk->ek", w, g) / w.sum(1)[:, None]).max() <= tol
+        assert np.abs(st["nodal"] - want_nodal).max() <= tol

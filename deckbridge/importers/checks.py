@@ -6,36 +6,54 @@ import numpy as np
 
 from .raw import HEX8, is_solid, solid_shape
 
-def solid_elements(raw, key: str = "mesh.file"):
-    """(file type, element ids, connectivity of node ids) of the mesh's solids, one type per mesh: 8-node
-    hexahedra (C3D8 order) or one 10-, 15-, 20- or 27-node type (:mod:`.quadratic` takes those). Elements
-    that are not solids (the 2D skin of physical groups Gmsh writes, CPS4 / CPS8 / S4 / CQUAD4 / CTRIA6,
-    beams, springs) are ignored: their nodes are solid nodes and they may define the node sets. A mesh of
-    several solid types, and a type deckbridge does not take (C3D4, C3D6, pyramids), are refused, named."""
+# element families that may share an imported mesh (solver names; 8-node hexahedra are read as c3d8i): their faces
+# conform (a hexahedron's quadrilateral against a wedge's, a wedge's triangle against a tetrahedron's) and one
+# contact law fits all their base faces (node-based on 4-/3-node faces, face-weighted on 8-/6-node faces)
+FAMILIES = (("first-order", ("c3d8i", "c3d6")), ("second-order", ("c3d20", "c3d20r", "c3d15", "c3d10")))
+
+
+def solid_elements(raw, key: str = "mesh.file") -> list[tuple[str, np.ndarray, np.ndarray, str]]:
+    """The mesh's solids by file type: [(file type, element ids, connectivity of node ids, solver name)], the
+    solver name ``c3d8i`` for 8-node hexahedra (C3D8 order) or that of a 6-, 10-, 15-, 20- or 27-node type
+    (:func:`.quadratic.solver_element`). Elements that are not solids (the 2D skin of physical groups Gmsh writes,
+    CPS4 / CPS8 / S4 / CQUAD4 / CTRIA6, beams, springs) are ignored: their nodes are solid nodes and they may
+    define the node sets. Several solid types are taken when they are of one :data:`FAMILIES` member (a mixed
+    mesh: hexahedra and wedges of one order, 10-node tetrahedra with 15-node wedges); first- and second-order
+    solids together, hexahedra with tetrahedra (no conforming face without pyramids), and a type deckbridge does
+    not take (C3D4, pyramids), are refused, named."""
     from ..errors import ModelError
     from .quadratic import solver_element
     solids = {t: (i, c) for t, (i, c) in raw.elements.items() if is_solid(t)}
     if not solids:
         skin = ", ".join(sorted(raw.elements)) or "none"
         raise ModelError(key, raw.path, f"no solid elements in the file (elements found: {skin})")
-    kinds = {t: ("hex8" if t.upper() in HEX8 and c.shape[1] == 8 else solver_element(t, c.shape[1]))
+    kinds = {t: ("c3d8i" if t.upper() in HEX8 and c.shape[1] == 8 else solver_element(t, c.shape[1]))
              for t, (i, c) in solids.items()}
     for t, (i, c) in solids.items():
         if kinds[t] is None:
             raise ModelError(key, raw.path, f"{len(i)} elements of type {t}: {solid_shape(c.shape[1])}; deckbridge "
-                             "takes 8-node hexahedra (C3D8, C3D8I, C3D8R) and 20-node hexahedra (C3D20, C3D20R), "
-                             "10-node tetrahedra (C3D10) and 15-node wedges (C3D15)")
-    if len(set(kinds.values())) > 1:
-        (t1, (i1, _)), (t2, (i2, _)) = list(solids.items())[:2]
-        raise ModelError(key, raw.path, f"{len(i1)} elements of type {t1} and {len(i2)} of type {t2}: a mixed "
-                         "mesh is not taken (one solid type per mesh)")
-    t = next(iter(solids))
+                             "takes 8-node hexahedra (C3D8, C3D8I, C3D8R) with 6-node wedges (C3D6), and 20-node "
+                             "hexahedra (C3D20, C3D20R), 10-node tetrahedra (C3D10) and 15-node wedges (C3D15)")
+    family = {k: f for f, members in FAMILIES for k in members}
+    if len({family[k] for k in kinds.values()}) > 1:
+        (t1, (i1, c1)), (t2, (i2, c2)) = next(((a, solids[a]), (b, solids[b])) for a in solids for b in solids
+                                              if family[kinds[a]] != family[kinds[b]])
+        raise ModelError(key, raw.path, f"{len(i1)} elements of type {t1} ({c1.shape[1]}-node) and {len(i2)} of type "
+                         f"{t2} ({c2.shape[1]}-node): first- and second-order solids are not mixed in one mesh "
+                         "(contact on 4-/3-node faces is node-based, on 8-/6-node faces face-weighted, and a linear "
+                         "face does not conform to a quadratic one): mesh it in one order")
+    hexa = [t for t in solids if kinds[t] in ("c3d8i", "c3d20", "c3d20r")]
+    tets = [t for t in solids if kinds[t] == "c3d10"]
+    if hexa and tets:
+        raise ModelError(key, raw.path, f"{len(solids[hexa[0]][0])} elements of type {hexa[0]} (hexahedra) and "
+                         f"{len(solids[tets[0]][0])} of type {tets[0]} (tetrahedra): their faces do not conform "
+                         "(quadrilateral against triangle; a mesh of both needs pyramids, which deckbridge does not "
+                         "take): join them through wedges, or mesh in one type")
     ids = np.concatenate([i for i, _ in solids.values()])
-    conn = np.vstack([c for _, c in solids.values()])
     u, cnt = np.unique(ids, return_counts=True)
     if (cnt > 1).any():
         raise ModelError(key, raw.path, f"element {int(u[cnt > 1][0])} is defined twice")
-    return t, ids, conn
+    return [(t, np.asarray(i), np.asarray(c), kinds[t]) for t, (i, c) in solids.items()]
 
 
 def ids_in_range(raw, elem_ids, key: str = "mesh.file") -> None:
@@ -158,12 +176,14 @@ def not_inverted(nodes, hexes, elem_ids) -> None:
 
 
 def connected(n_nodes: int, hexes, node_ids) -> None:
-    """One connected body (elements sharing nodes)."""
+    """One connected body (elements sharing nodes); ``hexes`` (m, k) or a list of such blocks (a mixed mesh)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from ..errors import ModelError
-    r = np.repeat(hexes[:, :1], hexes.shape[1] - 1, axis=1).ravel()
-    c = hexes[:, 1:].ravel()
+    blocks = list(hexes) if isinstance(hexes, (list, tuple)) else [hexes]
+    hexes = blocks[0]
+    r = np.concatenate([np.repeat(b[:, :1], b.shape[1] - 1, axis=1).ravel() for b in blocks])
+    c = np.concatenate([b[:, 1:].ravel() for b in blocks])
     g = coo_matrix((np.ones(r.size), (r, c)), shape=(n_nodes, n_nodes))
     n, lab = connected_components(g, directed=False)
     if n > 1:

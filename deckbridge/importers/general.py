@@ -76,13 +76,20 @@ def _to_skirt_frame(xyz: np.ndarray, axis) -> np.ndarray:
 
 
 def imported_mesh(model) -> SkirtMesh:
-    """Read, check and convert ``model.mesh.file`` (with its sets, units and axis)."""
+    """Read, check and convert ``model.mesh.file`` (with its sets, units and axis). A mesh of 8-node hexahedra
+    only takes :func:`contact_mesh`; any other (10-/15-/20-node solids, or a mixed mesh of one
+    :data:`.checks.FAMILIES` member: one cell block per solver type) :func:`.quadratic.quadratic_mesh`."""
     ms = model.mesh
     raw = read_mesh_file(ms.file)
-    etype, elem_ids, conn_ids = checks.solid_elements(raw)
-    element = "c3d8"
-    if conn_ids.shape[1] != 8:          # 10-, 15-, 20-node solids (issue 23)
-        element, elem_ids, conn_ids = quadratic.quadratic_cells(raw, etype, elem_ids, conn_ids)
+    groups = checks.solid_elements(raw)
+    blocks = {}                          # solver name -> [(element ids, connectivity of node ids)]
+    for etype, ids, conn, kind in groups:
+        if kind != "c3d8i":              # 6-, 10-, 15-, 20-node solids (issue 23): CalculiX order
+            kind, ids, conn = quadratic.quadratic_cells(raw, etype, ids, conn)
+        blocks.setdefault(kind, []).append((ids, conn))
+    names = list(blocks)
+    elem_ids = np.concatenate([i for n in names for i, _ in blocks[n]])
+    conn_blocks = [np.vstack([c for _, c in blocks[n]]) for n in names]
     checks.ids_in_range(raw, elem_ids)
     unit = MESH_UNITS[ms.units]
     axis = None if ms.axis is None else (*(unit * np.array(ms.axis[:3])), *ms.axis[3:])
@@ -90,9 +97,9 @@ def imported_mesh(model) -> SkirtMesh:
     raw.nodes = _to_skirt_frame(np.asarray(raw.nodes, float) * unit, axis)
     checks.plausible_size(raw.nodes, ms.units, MESH_UNITS, PLAUSIBLE_RADIUS_M)
     size = float(np.ptp(raw.nodes, axis=0).max()) if raw.nodes.size else 1.0
-    checks.nodes_unique_and_used(raw, conn_ids.ravel(), size)
+    checks.nodes_unique_and_used(raw, np.concatenate([c.ravel() for c in conn_blocks]), size)
     index_of = {int(n): i for i, n in enumerate(raw.node_ids)}
-    hexes = np.vectorize(index_of.__getitem__, otypes=[np.int64])(conn_ids)
+    cells = [np.vectorize(index_of.__getitem__, otypes=[np.int64])(c) for c in conn_blocks]
     base = checks.set_nodes(raw, ms.sets, "base", index_of)
     top = checks.set_nodes(raw, ms.sets, "top", index_of)
     stop_set = checks.set_nodes(raw, ms.sets, "stop", index_of) if ms.sets.stop else None
@@ -100,10 +107,14 @@ def imported_mesh(model) -> SkirtMesh:
     z0 = checks.base_plane(nodes, base, top, raw.node_ids, ms.sets, size)
     if z0 != 0.0:
         nodes[:, 2] -= z0
-    checks.connected(len(nodes), hexes, raw.node_ids)
-    if element != "c3d8":
-        hexes = quadratic.check_node_order(nodes, hexes, element, elem_ids, raw.path)
-        return quadratic.quadratic_mesh(model, element, nodes, hexes, base, top, stop_set, raw.node_ids, elem_ids)
+    checks.connected(len(nodes), cells, raw.node_ids)
+    if names != ["c3d8i"]:
+        first = np.cumsum([0] + [c.shape[0] for c in cells])
+        cells = [quadratic.check_node_order(nodes, c, n, elem_ids[a:b], raw.path)
+                 for n, c, a, b in zip(names, cells, first[:-1], first[1:])]
+        return quadratic.quadratic_mesh(model, list(zip(names, cells)), nodes, base, top, stop_set, raw.node_ids,
+                                        elem_ids)
+    hexes = cells[0]
     checks.not_inverted(nodes, hexes, elem_ids)
     hexes = orient(nodes, hexes)
     return contact_mesh(model, nodes, hexes, base, top, stop_set, raw.node_ids, elem_ids)

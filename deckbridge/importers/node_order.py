@@ -15,7 +15,7 @@ from reference_solver.elements import element_type
 from reference_solver.errors import ReferenceSolverError
 
 MIDSIDE_TOL = 0.1
-N_CORNERS = {4: 4, 8: 8, 10: 4, 15: 6, 20: 8}
+N_CORNERS = {4: 4, 6: 6, 8: 8, 10: 4, 15: 6, 20: 8}
 # Nastran's mid-side order (CHEXA G9-G20: edges 1-2, 2-3, 3-4, 4-1, then the vertical 1-5 .. 4-8, then the
 # top 5-6 .. 8-5; CPENTA G7-G15: 1-2, 2-3, 3-1, vertical 1-4 .. 3-6, top 4-5 .. 6-4) -> CalculiX's (top
 # edges before the vertical ones): calculix[:, i] = nastran[:, NASTRAN_TO_CCX[k][i]]; CTETRA's is CalculiX's.

@@ -28,7 +28,7 @@ from .. import wall_stress as WS
 from ..results import REQUIRED as COLUMNS, ResultsError, SourceResult, conform
 from ._checks import checked
 from ._files import beside
-from ._nodemap import locate
+from ._nodemap import build_mesh, locate
 
 THETA_TOL_DEG = 1e-3
 
@@ -78,7 +78,10 @@ def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
     if not np.isfinite(out["sigma_n_pa"].to_numpy()).all():
         raise DeckbridgeError(f"{str(src)!r}: sigma_n_pa holds non-finite values")
     if model is not None:
+        mesh = mesh if mesh is not None else build_mesh(model)
         check_against_model(out, model, src, mesh)
+        if mesh.quadratic_faces:   # the face-integrated penalty's sigma_N: a projected pressure (_contact_law.py)
+            out = out.assign(law_weighted=(out["method"] == "penalty").to_numpy())
     return out.assign(origin=[f"{str(src)!r}: line {i + 2}" for i in range(len(out))])   # for the contact-law check
 
 

@@ -150,10 +150,13 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
     n = s.increments
     el = getattr(mesh, "element", "c3d8i")
     eids = elem_ids(mesh, np.arange(mesh.hexes.shape[0]))
+    blocks = getattr(mesh, "blocks", ())              # a mixed mesh: one *ELEMENT and element set per type
     return {
-        "skirt_type": CCX_TYPE[el],
-        "skirt_elems": (element_lines(eids, mesh_node_ids(mesh, mesh.hexes)) if el in ("c3d8i", "c3d8") else
+        "skirt_type": CCX_TYPE.get(el, ""),
+        "skirt_elems": ("" if blocks else
+                        element_lines(eids, mesh_node_ids(mesh, mesh.hexes)) if el in ("c3d8i", "c3d8") else
                         ccx_element_lines(eids, mesh_node_ids(mesh, mesh.hexes))),
+        "skirt_blocks": mixed_blocks(mesh, eids),
         "top_faces": (face_lines(lay.top_elems, "S2") if el in ("c3d8i", "c3d8") else
                       face_label_lines(mesh, mesh.top_elems, elem_ids(mesh, mesh.top_elems), model.geometry.height)),
         "units": u, "unit_label": UNIT_LABEL[u.name], "nlgeom": model.analysis.nlgeom,
@@ -176,3 +179,15 @@ def shared_context(model: Model, lay: Layout, inc_limit_: int | None = None) -> 
         "step2_inc": reals([1.0 / n, 1.0, 1.0e-5 / n, 1.0 / n]),
         "increments": n, "inc_limit": inc_limit_ or inc_limit(model),
     }
+
+
+def mixed_blocks(mesh, eids: np.ndarray) -> list[dict]:
+    """``*ELEMENT`` blocks of a mixed mesh (``mesh.blocks``, cells numbered block by block; deck ids ``eids``):
+    {'type': CalculiX name, 'elset': ESKIRT_<name>, 'elems': data lines}; [] for a mesh of one type."""
+    out, start = [], 0
+    for name, cells in getattr(mesh, "blocks", ()):
+        m = cells.shape[0]
+        out.append({"type": CCX_TYPE[name], "elset": f"ESKIRT_{CCX_TYPE[name]}",
+                    "elems": ccx_element_lines(eids[start:start + m], mesh_node_ids(mesh, cells))})
+        start += m
+    return out

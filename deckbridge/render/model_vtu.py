@@ -18,7 +18,7 @@ from ..mesh import SkirtMesh
 from ..model import Model
 from ..numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
 from ..outdir import safe_filename
-from ..paraview import vtk_cells
+from ..paraview import by_block, vtk_blocks
 
 SUFFIX = "_model.vtu"
 
@@ -39,9 +39,10 @@ def model_mesh(mesh: SkirtMesh):
              "table_slave": mask(mesh.table.nodes),
              "stop_slave": mask(mesh.stop.nodes if mesh.stop is not None else []),
              "top_ring": mask(mesh.top_nodes)}
-    cell = {"element_id": [elem_ids(mesh, np.arange(n_el)).astype(np.int32)], "bottom_row": [bottom]}
-    return meshio.Mesh(np.asarray(mesh.nodes, float), [vtk_cells(mesh.hexes)],
-                       point_data=point, cell_data=cell)
+    blocks = vtk_blocks(mesh.hexes)                 # one block, or a mixed mesh's one per type
+    cell = {"element_id": by_block(blocks, elem_ids(mesh, np.arange(n_el)).astype(np.int32)),
+            "bottom_row": by_block(blocks, bottom)}
+    return meshio.Mesh(np.asarray(mesh.nodes, float), blocks, point_data=point, cell_data=cell)
 
 
 def write(model: Model, mesh: SkirtMesh, outdir: Path) -> Path:

@@ -98,8 +98,12 @@ def add_model(b: Bulk, model: Model, mesh: SkirtMesh, u: Units, integ: int | Non
     num = numbering(mesh)
     b.put("ref_grid", bdf.add_grid(num.ref_node, xyz=clean(np.asarray(mesh.ref_point) * u.length), cp=0, cd=0))
     eids, conn = elem_ids(mesh, np.arange(mesh.hexes.shape[0])), mesh_node_ids(mesh, mesh.hexes)
-    for e, h in zip(eids, conn):
-        b.put("hexas", bdf.add_chexa(int(e), pid=PID_SOLID, nids=[int(n) for n in h]))
+    wedge = (mesh.hexes < 0).any(axis=1)          # a mixed mesh's 6-node wedges (padded with -1): CPENTA
+    for e, h, w in zip(eids, conn, wedge):
+        if w:
+            b.put("hexas", bdf.add_cpenta(int(e), pid=PID_SOLID, nids=[int(n) for n in h[:6]]))
+        else:
+            b.put("hexas", bdf.add_chexa(int(e), pid=PID_SOLID, nids=[int(n) for n in h]))
     lay = gap_layout(mesh)
     for g, xyz in zip(lay.ground, lay.ground_xyz):
         b.put("ground", bdf.add_grid(int(g), xyz=[float(c) * u.length for c in xyz], cp=0, cd=0))

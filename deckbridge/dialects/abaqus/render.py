@@ -73,7 +73,9 @@ def base_cell_height(mesh: SkirtMesh) -> float:
     z = mesh.nodes[:, 2]
     if mesh.base_elems is None or not len(mesh.base_elems):
         return float(np.min(z[z > 0.0]))
-    return float(np.median(np.ptp(z[mesh.hexes[np.asarray(mesh.base_elems, np.int64)]], axis=1)))
+    cells = mesh.hexes[np.asarray(mesh.base_elems, np.int64)]
+    cells = np.where(cells < 0, cells[:, :1], cells)       # a mixed mesh's padded cells (-1): their first node
+    return float(np.median(np.ptp(z[cells], axis=1)))
 
 
 def _groups(values: np.ndarray) -> list[np.ndarray]:

@@ -191,7 +191,7 @@ def ccx_wall(result: str | Path, model, mesh=None) -> pd.DataFrame | None:
     if model is not None:
         from ...mesh import build_mesh
         mesh = mesh if mesh is not None else build_mesh(model)
-        if mesh.hexes.shape[1] != N_IP:   # 10-/15-/20-node cells: other integration points, not read yet
+        if mesh.hexes.shape[1] != N_IP or mesh.blocks:   # 10-/15-/20-node cells, mixed: not read yet
             return None
     try:
         t = read_base_wall(dat, model, mesh=mesh)

@@ -43,7 +43,7 @@ from .face_rows import TableProjection, column_neighbours, f2f_table_sigma, face
 from .numbering import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...numbering.skirt import mesh_node_index
 from ...units import scale
-from .result_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _read_meta, _slaves_from_model  # noqa: F401
+from .result_files import _META_JOB, Slaves, _dat_blocks, _frd_blocks, _on_frd_time, _read_meta, _slaves_from_model  # noqa: F401
 from ...readers._checks import checked, reading
 from ...results import with_forces
 
@@ -312,20 +312,6 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
     if not frames:
         raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
     return pd.concat(frames, ignore_index=True)
-
-
-TIME_DIGITS_TOL = 2e-6   # the .dat prints a time to 7 significant digits, the .frd to 10: the same point [s]
-
-
-def _on_frd_time(t: float, frd_times: np.ndarray) -> float:
-    """The ``.frd``'s time of the point a ``.dat`` time ``t`` [s] names (within TIME_DIGITS_TOL x max(1, t)),
-    else ``t``: one state per ccx time point, not two (a 1/3 increment is 1.333333 in one, 1.333333333 in the
-    other; keyed apart, a state's forces and its displacements or CPRESS fell into two half-empty states)."""
-    if frd_times.size:
-        k = int(np.abs(frd_times - t).argmin())
-        if abs(frd_times[k] - t) <= TIME_DIGITS_TOL * max(1.0, abs(t)):
-            return float(frd_times[k])
-    return t
 
 
 def _key(t: float, step: int | None) -> tuple[int, float]:

@@ -373,6 +373,8 @@ def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
             continue
         if method == "penalty" and mesh.quadratic_faces:   # node-to-surface / GAPUNI: node-based (issue 23)
             continue
+        if method != "mortar" and mesh.blocks:             # a mixed mesh: the mortar deck only (so far)
+            continue
         if method == "f2f" and mesh.element not in ("c3d8", "c3d8i", "c3d20", "c3d20r", "c3d10", "c3d15"):
             continue
         text = render(RECORD.templates, tpl, **ctx_fn(model, mesh))

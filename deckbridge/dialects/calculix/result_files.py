@@ -210,3 +210,17 @@ def _parse_frd(path: Path) -> tuple[dict, list[dict]]:
                     cur["values"][node] = vals
                     cur["line"][node] = line_no
     return coords, blocks
+
+
+TIME_DIGITS_TOL = 2e-6   # the .dat prints a time to 7 significant digits, the .frd to 10: the same point [s]
+
+
+def _on_frd_time(t: float, frd_times: np.ndarray) -> float:
+    """The ``.frd``'s time of the point a ``.dat`` time ``t`` [s] names (within TIME_DIGITS_TOL x max(1, t)),
+    else ``t``: one state per ccx time point, not two (a 1/3 increment is 1.333333 in one, 1.333333333 in the
+    other; keyed apart, a state's forces and its displacements or CPRESS fell into two half-empty states)."""
+    if frd_times.size:
+        k = int(np.abs(frd_times - t).argmin())
+        if abs(frd_times[k] - t) <= TIME_DIGITS_TOL * max(1.0, abs(t)):
+            return float(frd_times[k])
+    return t
