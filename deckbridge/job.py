@@ -39,6 +39,7 @@ from .outdir import prepare, replacing
 from .render import render_all
 from .readers import read
 from .readers.reference import solution_globals
+from .reference_dual import mortar_series, wants_mortar_dual
 from .reference_f2f import f2f_series, wants_f2f
 from .studies.verdict import write_report_with_verdict
 from .report.caveats import reference_caveats
@@ -111,6 +112,10 @@ def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: flo
     if wants_f2f(model, chosen, out / "decks"):   # ccx/f2f's partner: the face-integrated penalty (issue 24)
         origin = f"{out / 'reference_penalty'} (face-integrated)"
         tables.append(f2f_series(model, mesh, system, origin))
+        origins.append(origin)
+    if wants_mortar_dual(model, mesh, chosen, out / "decks"):   # ccx/mortar's partner: ccx's multiplier basis
+        origin = f"{out / 'reference_lagrange'} (ccx's dual basis)"
+        tables.append(mortar_series(model, mesh, system, origin))
         origins.append(origin)
 
     for d in chosen:                            # its decks, its runner, its reader, its wall and series

@@ -6,25 +6,28 @@ reading sigma_N = -F / A (4-node faces) would call every corner of a pressed qua
 these faces the ccx reader reports, as the reference solver does for its face-weighted law
 (``reference_solver/face_law.py``, ``deckbridge/solve.py``), the pressure field's nodal values:
 
-- mortar deck (``*_ccx_lagrange.inp``): the pressure of the reference's face-weighted laws, sigma_N = -D^-T r
-  [Pa] over the table surface, r_i = RF_i . n [N] the slave node's consistent contact force (RF of the ``.dat``
-  ``*NODE PRINT`` of the table slave nodes, > 0 pressing the skirt onto the table) and D_ab = int Phi_a N_b dA
-  the same mortar matrix as the reference's (:func:`reference_solver.face_weights.face_matrix` with
-  ``mortar=True``, the non-negative hat basis Phi): ccx's nodal forces read as
-  the multipliers lambda = D^-T r of the field sum lambda_a Phi_a, node by node the quantity the reference's
-  face-weighted Lagrange and face penalty report (their -D^-T r). Exact (-p) for a
-  uniform pressure p. Without a model (no faces to build D from) the reader takes ccx's own nodal pressure
-  -CPRESS instead.
+- mortar deck (``*_ccx_lagrange.inp``): ccx's own multipliers, sigma_N = -D^-T r [Pa] over the table surface,
+  r_i = RF_i . n [N] the slave node's consistent contact force (RF of the ``.dat`` ``*NODE PRINT`` of the table
+  slave nodes, > 0 pressing the skirt onto the table) and D_ab = int psi_a N_b dA = diag(d) T^-T the mortar
+  matrix of ccx's TYPE=MORTAR basis (:func:`reference_solver.face_weights.dual_mortar`: dual functions psi to
+  the transformed Nt = T N, alpha = 1/5, d = int Nt dA): lambda = (T r) / d >= 0, the quantity ccx's law puts
+  its sign condition on, and node by node what the reference's ``contact_weighting='face-dual'`` reports
+  (``reference/mortar``, :mod:`deckbridge.reference_dual`; docs/mortar_stop.md). Exact (-p) for a uniform
+  pressure p. The rows' areas are then d (:attr:`TableProjection.areas`). (Until round 4 the hat basis of the
+  reference's default law, -D_hat^-T r on hat areas: tensile next to the contact edge.) Without a model (no
+  faces to build D from) the reader takes ccx's own nodal pressure -CPRESS instead.
 - face-to-face deck (``*_ccx_f2f.inp``, master a wide C3D8 ring, no master node under each slave node):
   sigma_N = -CPRESS of the ``.frd`` CONTACT block (see :func:`f2f_table_sigma`).
 
-The table's force_n is then -sigma_N x the row's area (``area_m2`` = int Phi_a dA of the same hat basis,
-:func:`deckbridge.face_areas.contact_areas`), as the reference's face-weighted table, so Sum force_n = Sum r;
+The table's force_n is then -sigma_N x the row's area (``area_m2`` = int Phi_a dA of the multiplier basis: d for
+the mortar rows, the hat areas :func:`deckbridge.face_areas.contact_areas` elsewhere), so Sum force_n = Sum r;
 the through-wall sigma_N (:func:`deckbridge.quantities.sigma_n_wall`) = -Sum force / Sum area per azimuth. The
 contact-law check (:mod:`deckbridge.readers._contact_law`) judges these rows by that pressure.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -33,16 +36,18 @@ from ...errors import DeckbridgeError
 from ...numbering.skirt import mesh_node_ids
 
 QUADRATIC_TYPES = ("C3D20", "C3D20R", "C3D10", "C3D15")     # ccx element types with 8- or 6-node faces
+MORTAR_BASIS = "dual"           # the multipliers the reader reports for a mortar job's table: ccx's own
 
 
 class TableProjection:
     """-D^-T r of the table rows of a slave table ``node_ids`` / ``table`` (bool per row) on ``mesh``'s table
     faces (D: the reference's mortar matrix, module doc): :meth:`sigma` maps the rows' normal forces r [N]
     (> 0 compressive) to sigma_N [Pa] (< 0 compression). D is factorised once per job. ``basis``: the multiplier
-    basis of D, 'hat' (the reader's, default) or 'dual' (ccx's own TYPE=MORTAR multipliers, D = diag(d) T^-T of
-    :func:`reference_solver.face_weights.dual_mortar`: -D^-T r = -(T r) / d, what the reference's
-    ``contact_weighting='face-dual'`` reports; tests/test_dual_mortar.py). The reader keeps 'hat' (its table's
-    areas are the hat areas, so Sum sigma_N x area = Sum RF holds)."""
+    basis of D, 'hat' (the reference's default law) or 'dual' (ccx's own TYPE=MORTAR multipliers, D = diag(d) T^-T
+    of :func:`reference_solver.face_weights.dual_mortar`: -D^-T r = -(T r) / d, what the reference's
+    ``contact_weighting='face-dual'`` reports; the reader's, :data:`MORTAR_BASIS`; tests/test_dual_mortar.py).
+    :attr:`areas` [m^2]: the rows' multiplier shares, the row sums of D (d, or the hat areas), so that
+    Sum sigma_N x area = -Sum r."""
 
     def __init__(self, mesh, node_ids: np.ndarray, table: np.ndarray, basis: str = "hat"):
         from reference_solver.face_weights import face_matrix
@@ -56,6 +61,13 @@ class TableProjection:
         self.rows = rows
         self.order = np.array([pos[int(node_ids[i])] for i in rows])
         self.lu = spla.splu(M.tocsc())
+        self.areas = np.asarray(M.sum(axis=1)).ravel()[self.order]
+
+    def slaves(self, sl):
+        """The reader's slave rows ``sl`` (result_files.Slaves) with :attr:`areas` on the projected rows."""
+        area = np.array(sl.area, float)
+        area[self.rows] = self.areas
+        return dataclasses.replace(sl, area=area)
 
     def sigma(self, r_rows: np.ndarray) -> np.ndarray:
         """sigma_N [Pa] of the table rows (in row order) from their normal forces ``r_rows`` [N]."""

@@ -12,7 +12,7 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
 - node-to-surface penalty (``analysis.nlgeom: false`` penalty deck): ``.dat`` ``*CONTACT PRINT`` CSTR
   (pressure p = K x penetration per contact element, in contact-pair order, lifted nodes left out):
   sigma_n = -p A_ccx / A (force k_c x penetration over the model's area; 0 for a node without a row);
-- 8-/6-node faces (C3D20/C3D20R/C3D10/C3D15): table rows as :mod:`.face_rows` (mortar -M^-1 RF, f2f -CPRESS);
+- 8-/6-node faces (C3D20/C3D20R/C3D10/C3D15): table rows as :mod:`.face_rows` (mortar ccx's multipliers, f2f -CPRESS);
 - gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
   ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
   lifted one can carry pressure with a small positive nodal gap). status: closed where
@@ -39,7 +39,7 @@ from . import RECORD
 from ...errors import DeckbridgeError
 from ...methods import PENALTY
 from ...mesh import build_mesh
-from .face_rows import TableProjection, column_neighbours, f2f_table_sigma, face_neighbours, law_gaps as face_law_gaps
+from .face_rows import MORTAR_BASIS, TableProjection, column_neighbours, f2f_table_sigma, face_neighbours, law_gaps as face_law_gaps
 from .numbering import ccx_ground_node_ids, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...numbering.skirt import mesh_node_index
 from ...units import scale
@@ -183,8 +183,8 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
     if f2f_cpress and not cpress:
         raise DeckbridgeError(f"{str(frd if frd.is_file() else stem)!r}: no CONTACT block (CPRESS) of a face-to-face "
                               "job on quadratic faces in the .frd")
-    project = (TableProjection(mesh, sl.node, mortar_rows) if quad and model is not None and mortar_rows.any()
-               and table_from == "rf" else None)     # quadratic mortar: -D^-T r (face_rows.py)
+    project = (TableProjection(mesh, sl.node, mortar_rows, MORTAR_BASIS) if quad and model is not None
+               and mortar_rows.any() and table_from == "rf" else None)     # quadratic mortar: ccx's own multipliers
     if gap_rows.any() and not forces:
         raise DeckbridgeError(f"{str(dat if dat.is_file() else stem)!r}: no gap-element forces (*NODE PRINT RF "
                               "of the grounded nodes) in the .dat")
@@ -226,6 +226,7 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
                 sigma[i] = -cp[int(sl.node[i])]
                 origin[i] = cp_at.get(int(sl.node[i]))
         sigmas[(step, t)], origins[(step, t)] = sigma, origin
+    sl = sl if project is None else project.slaves(sl)          # their areas: the multipliers' shares d
     return _frames(sl, method, lam, sigmas, disp, stem, origins, law_sigmas=own or None, near=near)
 
 
