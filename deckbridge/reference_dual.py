@@ -3,8 +3,9 @@
 ``run --with-ccx`` on a skirt with 8-/6-node table faces compares the ccx series ``ccx/mortar``
 (``<name>_ccx_lagrange.inp``: ``TYPE=MORTAR``, read as ccx's own multipliers lambda = (T r) / d,
 ``dialects/calculix/face_rows.py``) with ``reference/mortar``: the same condensed system solved with the
-face-weighted Lagrange in that basis (``contact_weighting='face-dual'``, :func:`reference_solver.face_weights.dual_mortar`:
-dual functions to the transformed slave functions T N, alpha = 1/5), so that the two are one discretisation of one law
+face-weighted Lagrange in that basis (``contact_weighting='face-dual'``,
+:func:`reference_solver.face_weights.dual_mortar`: dual functions to the transformed slave functions T N, alpha = 1/5),
+so that the two are one discretisation of one law
 (docs/mortar_stop.md, last section: 2.4e-4 of the peak node by node on one model). The reference's default Lagrange
 (``reference/lagrange``, hat basis: a pressure field >= 0 everywhere) stays as it was.
 Rows: the tidy schema of :func:`deckbridge.solve.contact_table`, method ``mortar``, sigma_N = -lambda and the table

@@ -55,8 +55,8 @@ def _integrals(face, rule, xyz):
     N = face.shape(pts)
     Nt = N @ transformed_basis(face).T
     psi = Nt @ A[0].T                                                        # (p, k)
-    return (np.einsum("p,pj,pk->jk", jw, psi, Nt), np.einsum("p,pj,pk->jk", jw, psi, N), jw @ (psi.sum(1)[:, None] * Nt),
-            jw @ Nt, d[0])
+    return (np.einsum("p,pj,pk->jk", jw, psi, Nt), np.einsum("p,pj,pk->jk", jw, psi, N),
+            jw @ (psi.sum(1)[:, None] * Nt), jw @ Nt, d[0])
 
 
 @pytest.mark.parametrize("name", ["quad8", "tri6"])

@@ -29,10 +29,10 @@ def test_run_with_ccx_on_a_hex20r_skirt(tmp_path):
     was -13.61 with HRZ areas, 13 % short of N); at lambda 0.6 ccx/f2f vs reference/f2f through the wall 134 kPa =
     0.47 % of the peak; tet10 (not run here, 85 s) completes too (ccx/f2f vs reference/f2f peak -32.0 / -32.0 MPa
     at 0.8). Round 4: ccx/mortar is read in ccx's own multiplier basis (face_rows.MORTAR_BASIS; under N alone its
-    peak -14.34 MPa) and paired with reference/mortar (the reference Lagrange in that basis, deckbridge/reference_dual.py;
-    -14.54 under N alone: the reference's C3D20R alternation, left out like reference/lagrange): at lambda 0.6 through
-    the wall 0.37 MPa = 1.28 % of the peak (reference/lagrange vs ccx/mortar 2.10 MPa); peaks at lambda 1 -230.9 /
-    -230.5 MPa (reference/lagrange -178.4)."""
+    peak -14.34 MPa) and paired with reference/mortar (the reference Lagrange in that basis,
+    deckbridge/reference_dual.py; -14.54 under N alone: the reference's C3D20R alternation, left out like
+    reference/lagrange): at lambda 0.6 through the wall 0.37 MPa = 1.28 % of the peak (reference/lagrange vs
+    ccx/mortar 2.10 MPa); peaks at lambda 1 -230.9 / -230.5 MPa (reference/lagrange -178.4)."""
     model = load(None, MESH)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")              # quadratic-mesh 'unverified' and deck-left-out notes
