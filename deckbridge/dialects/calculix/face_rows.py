@@ -61,7 +61,15 @@ class TableProjection:
         self.rows = rows
         self.order = np.array([pos[int(node_ids[i])] for i in rows])
         self.lu = spla.splu(M.tocsc())
+        self.D = M.tocsr()
         self.areas = np.asarray(M.sum(axis=1)).ravel()[self.order]
+
+    def forces(self, sigma_rows: np.ndarray) -> np.ndarray:
+        """The rows' normal forces r = -D^T sigma_N [N] (> 0 compressive) of their sigma_N [Pa] (row order): the
+        inverse of :meth:`sigma`, e.g. to read one table in another basis."""
+        s = np.zeros(self.order.size)
+        s[self.order] = sigma_rows
+        return -(self.D.T @ s)[self.order]
 
     def slaves(self, sl):
         """The reader's slave rows ``sl`` (result_files.Slaves) with :attr:`areas` on the projected rows."""
