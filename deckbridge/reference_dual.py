@@ -11,8 +11,8 @@ so that the two are one discretisation of one law
 Rows: the tidy schema of :func:`deckbridge.solve.contact_table`, method ``mortar``, sigma_N = -lambda and the table
 rows' ``area_m2`` = d = int T N dA (the multipliers' shares: Sum force_n = Sum of the nodal forces), without a
 base-wall sigma_zz table: the sigma_zz equilibrium check (``deckbridge/quantities.py``) on these rows read 2.15 % at
-lambda 0.8 and 17.6 % at 1 (hex20 24 x 3 x 1; the hat series 0.75 / 4.1 %), a warning about the through-wall reading
-of dual multipliers on the areas d past liftoff, not looked into (docs/mortar_stop.md). As rendered the deck and the reference still differ in two model details (the deck's
+lambda 0.8 and 17.6 % at 1 (hex20 24 x 3 x 1; the hat series 0.75 / 4.1 %), cause not looked into (the solution
+itself is ccx's to 2.4e-4 on one model; docs/mortar_stop.md). As rendered the deck and the reference still differ in two model details (the deck's
 springs on corner nodes only, ccx's ``*DISTRIBUTING`` top weights): docs/mortar_stop.md.
 """
 
