@@ -146,8 +146,8 @@ LAYERS = {
              "api_callable", "methods", "deck_elements", "face_areas"],
     "model": ["model_fields", "overrides", "outdir", "importers", "model", "mesh", "mesh_order", "numbering",
               "imported_model"],
-    "outputs": ["render", "readers", "paraview", "wall_stress", "solve", "reference_f2f", "limits", "compare",
-                "report"],
+    "outputs": ["render", "readers", "paraview", "wall_stress", "solve", "reference_f2f", "reference_dual", "limits",
+                "compare", "report"],
     "dialects": ["dialects.*"],
     "jobs": ["job", "studies", "model_reference"],
     "entry": ["cli", "deckbridge", "api", "api_results", "api_studies", "contact_results"],        # the command line and the package's public face
