@@ -28,10 +28,11 @@ ORDERING = "default"   # CHOLMOD ordering method for the node graph (AMD, METIS 
 # factor took 1.3-1.4x METIS's CPU at 205k dof (METIS itself +1 s). Below it (the pinned models) the
 # ordering, and so the factor, stay as they were.
 METIS_MIN_NODES = 20_000
-# CHOLMOD's nested dissection (METIS node bisection, constrained minimum degree on the separator tree)
-# rather than plain METIS: with the retained dofs moved last its factor took fewer flops (bench/README.md,
-# "The retained dofs last"). Both need a CHOLMOD built with METIS; without it CHOLMOD's default below.
-LARGE_ORDERING = "nesdis"
+# CHOLMOD's ordering of the node graph from METIS_MIN_NODES nodes on ("metis" or "nesdis"; both need a
+# CHOLMOD built with METIS, without it CHOLMOD's default below). With the retained dofs moved last neither
+# wins on every mesh: NESDIS took 10 % fewer flops at 400k (320x140x2), 1-3 % fewer on four shapes, 9 %
+# more on 280x120x3 and 16 % more at 1M (500x220x2); see bench/README.md, "The retained dofs last".
+LARGE_ORDERING = "metis"
 
 
 def rotate_blocks(K: BlockStiffness, nodes: np.ndarray, R: np.ndarray) -> None:
