@@ -11,10 +11,14 @@ moves the retained (contact and spring) dofs last. Per ordering this prints
   ``bench/scale.py --case factor``), and that ordering with the retained dofs appended;
 - ``--numeric R``: R alternations of ``trailing.schur_blocks`` itself per ordering on the same blocks
   (process CPU of its split = node ordering + permuted triangle, its factorisation, its Schur read) and
-  the largest difference of S between the orderings (round-off).
+  the largest difference of S from the first run's (``ref``; round-off);
+- ``--fold-springs``: also the springs folded into K (k on their dofs' diagonal) and only the contact dofs
+  retained, first ordering: symbolic, and numeric with the contact Schur complement
+  Sc = S_cc - S_cs (S_ss + k)^-1 S_sc (condense.py's) compared to the folded one.
 
     python bench/trailing_order.py 320 140 2 --yardstick
     python bench/trailing_order.py 320 140 2 --numeric 2 --orderings metis,nesdis --no-symbolic
+    python bench/trailing_order.py 640 70 2 --numeric 1 --orderings metis --fold-springs
 """
 
 from __future__ import annotations
@@ -69,6 +73,21 @@ def _dof_lower(G: sp.csc_matrix, perm: np.ndarray) -> sp.csc_matrix:
     return sp.csc_matrix((np.ones(int(low.sum())), (r[low], c[low])), shape=A.shape)
 
 
+def _folded(p, c, s, K):
+    """The blocks with each spring's k added on its dof's diagonal (the springs folded into K)."""
+    from reference_solver.assembly import BlockStiffness
+    on = np.flatnonzero(K.rows == K.cols)                    # one diagonal pair per node, in node order
+    comp = K.comp.copy()
+    np.add.at(comp, (4 * (s % 3), on[s // 3]), p.spring_k)
+    return BlockStiffness(K.n_nodes, K.rows, K.cols, comp)
+
+
+def _contact_schur(S: np.ndarray, nc: int, k: np.ndarray) -> np.ndarray:
+    """Sc = S_cc - S_cs (S_ss + k)^-1 S_sc from S over (contacts, springs)."""
+    Sss = S[nc:, nc:] + np.diag(k)
+    return S[:nc, :nc] - S[:nc, nc:] @ np.linalg.solve(Sss, S[nc:, :nc])
+
+
 def _setup(nt: int, nz: int, nr: int):
     from deckbridge.mesh import build_mesh
     from deckbridge.model import load
@@ -80,10 +99,10 @@ def _setup(nt: int, nz: int, nr: int):
     dm = build_dofmap(p)
     r = np.concatenate([dm.contact_dofs, dm.spring_dofs])
     F = cond.load_vectors(p, dm, tuple(p.loads))
-    return p, r, F, cond._reduced_blocks(p, dm, {})[0]
+    return p, dm.contact_dofs.size, r, F, cond._reduced_blocks(p, dm, {})[0]
 
 
-def symbolic(p, r, K, orderings, yardstick: bool) -> None:
+def symbolic(p, r, K, orderings, yardstick: bool, nc: int | None = None) -> None:
     from reference_solver import estimate, trailing
     n, n3 = K.n_nodes, 3 * K.n_nodes
     indptr = np.searchsorted(K.rows, np.arange(n + 1))
@@ -99,6 +118,14 @@ def symbolic(p, r, K, orderings, yardstick: bool) -> None:
         est = estimate.factor_entries(p.hexes, p.n_nodes)
         print(f"  node {name:<8} r last: nnz(L) {nL / 1e6:7.1f} M, flops {fl / 1e9:7.1f} G "
               f"(node ordering {c:.1f} s CPU; factor_entries {est / 1e6:.1f} M)", flush=True)
+    if nc is not None:
+        trailing.LARGE_ORDERING = orderings[0]
+        isc = np.zeros(n3, bool)
+        isc[r[:nc]] = True
+        dofs = (3 * trailing.node_order(K)[:, None] + np.arange(3)).ravel()
+        nL, fl, _ = _fill(_dof_lower(G, np.concatenate([dofs[~isc[dofs]], r[:nc]])))
+        print(f"  node {orderings[0]:<8} springs folded, contacts last: nnz(L) {nL / 1e6:7.1f} M, flops {fl / 1e9:7.1f} G",
+              flush=True)
     if yardstick:
         keep = np.flatnonzero(~isr)
         Kii = _dof_lower(G, np.arange(n3))[keep][:, keep].tocsc()
@@ -109,23 +136,30 @@ def symbolic(p, r, K, orderings, yardstick: bool) -> None:
         print(f"  yardstick's ordering of K_ii, r last:   nnz(L) {nL / 1e6:7.1f} M, flops {fl / 1e9:7.1f} G", flush=True)
 
 
-def numeric(r, F, K, orderings, repeat: int) -> None:
+def numeric(r, F, K, orderings, repeat: int, fold=None) -> None:
+    """``fold``: (nc, folded blocks, spring k) to alternate the folded springs too."""
     from reference_solver import stages, trailing
     marks: list = []
     stages.set_hook(lambda name: marks.append((name, time.process_time())))
-    S0 = None
+    runs = [(name, name, K, r) for name in orderings]
+    if fold is not None:
+        runs.append((orderings[0], f"{orderings[0]}, springs folded", fold[1], r[:fold[0]]))
+    S0 = Sc = None
     for rep in range(repeat):
-        for name in orderings:
-            trailing.LARGE_ORDERING = name
+        for ordering, name, KK, rr in runs:
+            trailing.LARGE_ORDERING = ordering
             marks.clear()
             c0 = time.process_time()
-            sc = trailing.schur_blocks([K], r, F)
+            sc = trailing.schur_blocks([KK], rr, F)
             t = dict(zip([m[0] for m in marks], np.diff([c0] + [m[1] for m in marks])))
-            dev = 0.0 if S0 is None else float(np.abs(sc.S - S0).max() / np.abs(S0).max())
-            if S0 is None:
-                S0 = sc.S.copy()
+            if rr.size < r.size:                                   # folded: against condense.py's Sc
+                Sc = _contact_schur(S0, fold[0], fold[2]) if Sc is None else Sc
+                dev = float(np.abs(sc.S - Sc).max() / np.abs(Sc).max())
+            else:
+                dev = 0.0 if S0 is None else float(np.abs(sc.S - S0).max() / np.abs(S0).max())
+                S0 = sc.S.copy() if S0 is None else S0
             print(f"  run {rep + 1} node {name:<8}: split {t['split']:6.2f} s, factorisation {t['factor']:6.2f} s, "
-                  f"Schur read {t['schur']:5.2f} s CPU; |S - S_first| / max|S| = {dev:.1e}; "
+                  f"Schur read {t['schur']:5.2f} s CPU; |S - ref| / max|ref| = {dev:.1e}; "
                   f"load {os.getloadavg()[0]:.1f}", flush=True)
             del sc
     stages.set_hook(None)
@@ -138,18 +172,20 @@ def main(argv=None) -> int:
     ap.add_argument("--yardstick", action="store_true", help="also K_ii with CHOLMOD's own ordering")
     ap.add_argument("--numeric", type=int, default=0, metavar="R", help="alternations of the real factorisation")
     ap.add_argument("--no-symbolic", action="store_true")
+    ap.add_argument("--fold-springs", action="store_true", help="also the springs folded into K, contacts retained")
     a = ap.parse_args(argv)
     from reference_solver import trailing
     orderings = a.orderings.split(",")
-    p, r, F, K = _setup(*a.mesh)
+    p, nc, r, F, K = _setup(*a.mesh)
     if K.n_nodes < trailing.METIS_MIN_NODES:
         trailing.METIS_MIN_NODES = 0                    # compare the large-mesh orderings on any mesh
     print(f"mesh {'x'.join(map(str, a.mesh))}: {3 * K.n_nodes} dofs, {r.size} retained; "
           f"load {os.getloadavg()[0]:.1f}, {time.strftime('%H:%M UTC', time.gmtime())}", flush=True)
     if not a.no_symbolic:
-        symbolic(p, r, K, orderings, a.yardstick)
+        symbolic(p, r, K, orderings, a.yardstick, nc if a.fold_springs else None)
     if a.numeric:
-        numeric(r, F, K, orderings, a.numeric)
+        fold = (nc, _folded(p, r[:nc], r[nc:], K), p.spring_k) if a.fold_springs else None
+        numeric(r, F, K, orderings, a.numeric, fold)
     return 0
 
 
