@@ -80,6 +80,22 @@ class CondensedSystem:
         return u if many else u[0]
 
 
+def contact_operator(S: np.ndarray, nc: int, Gs: np.ndarray, block: int = 512) -> np.ndarray:
+    """S_c = sym(S_cc - S_cs Gs) (nc, nc) with one nc x nc array alive: the product is written over by the
+    difference, then made exactly symmetric block by block; the same numbers as ``0.5 * (A + A.T)`` of
+    ``A = S_cc - S_cs @ Gs`` (each entry 0.5 (a_ij + a_ji), addition commutes), without its three temporaries."""
+    Sc = S[:nc, nc:] @ Gs
+    np.subtract(S[:nc, :nc], Sc, out=Sc)
+    for b in range(0, nc, block):
+        e = min(b + block, nc)
+        for c in range(0, b + 1, block):
+            f = min(c + block, nc)
+            avg = 0.5 * (Sc[b:e, c:f] + Sc[c:f, b:e].T)
+            Sc[b:e, c:f] = avg
+            Sc[c:f, b:e] = avg.T
+    return Sc
+
+
 def load_vectors(p: Problem, dm: DofMap, names: tuple[str, ...]) -> np.ndarray:
     """Reduced load vectors (nq, ncase) of the basic load cases."""
     F = np.zeros((dm.n_reduced, len(names)))
@@ -179,8 +195,8 @@ def _condense(p: Problem, cases, factorize, schur) -> CondensedSystem:
     t3 = time.perf_counter()
     t1 = t0 + times["assembly_s"]
     nc, ns = p.n_contacts, p.n_springs
-    S = sc.S.copy()
-    S[np.arange(nc, nc + ns), np.arange(nc, nc + ns)] += p.spring_k
+    sc.add_diagonal(np.arange(nc, nc + ns), p.spring_k)    # S with the springs: the Schur's own array, no copy
+    S = sc.S
     if not (np.all(np.isfinite(S)) and np.all(np.isfinite(sc.fhat))):
         raise ReferenceSolverError("non-finite numbers in the condensed stiffness (check E, nu and the mesh)")
     if ns:
@@ -189,11 +205,11 @@ def _condense(p: Problem, cases, factorize, schur) -> CondensedSystem:
             raise ReferenceSolverError("mechanism: the spring dofs are not restrained with the contacts held")
         Gs = sla.cho_solve(cf, S[nc:, :nc])
         us0 = sla.cho_solve(cf, sc.fhat[nc:])
+        del cf
     else:
         Gs = np.zeros((0, nc))
         us0 = np.zeros((0, len(names)))
-    Sc = S[:nc, :nc] - S[:nc, nc:] @ Gs
-    Sc = 0.5 * (Sc + Sc.T)
+    Sc = contact_operator(S, nc, Gs)
     fc = sc.fhat[:nc] - S[:nc, nc:] @ us0
     t4 = time.perf_counter()
     mark("dense")

@@ -112,6 +112,14 @@ class Schur:
     recover: Callable[[np.ndarray, np.ndarray], np.ndarray]
     method: str
     timings: dict = field(default_factory=dict)
+    recover_diagonal: np.ndarray | None = None     # (nr,) what ``recover`` adds to S's diagonal (trailing: D0)
+
+    def add_diagonal(self, rows: np.ndarray, values: np.ndarray) -> None:
+        """S[rows, rows] += values in place (the springs of the condensation: no second nr x nr copy of S), the
+        recovery unchanged: it still applies the condensed stiffness of the factor, (S - diag(values)) + D0."""
+        self.S[rows, rows] += values
+        if self.recover_diagonal is not None:
+            self.recover_diagonal[rows] -= values
 
 
 def _split(K: sp.spmatrix, r: np.ndarray):
@@ -276,9 +284,10 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     S = C if np.array_equal(back, np.arange(nr)) else C[np.ix_(back, back)]    # S + D0, order of r
     del C
     S[np.diag_indices(nr)] -= d0                                     # S, exactly symmetric; S + D0 = S + d0 I
+    dd = np.array(d0, float)                 # D0, less what Schur.add_diagonal adds to S in place later
 
     def SD_times(x: np.ndarray) -> np.ndarray:                      # (S + D0) x without a second nr x nr array
-        return S @ x + d0.reshape((nr,) + (1,) * (np.ndim(x) - 1)) * x
+        return S @ x + dd.reshape((nr,) + (1,) * (np.ndim(x) - 1)) * x
 
     def solve_aug(b_perm: np.ndarray) -> np.ndarray:
         return np.asarray(f(b_perm))
@@ -316,7 +325,7 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
         return u
 
     return Schur(S, fhat, recover, "cholmod-trailing",
-                 {**timings, "schur_s": t3 - t2, "trailing_read": how})
+                 {**timings, "schur_s": t3 - t2, "trailing_read": how}, recover_diagonal=dd)
 
 
 def gram_lower(L: np.ndarray, block: int = 1024) -> np.ndarray:
