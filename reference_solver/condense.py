@@ -10,7 +10,7 @@ r_c = S_c u_c - f_c(load); spring dofs u_s = S_ss^-1 (fhat_s - S_sc u_c); spring
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Mapping
 
 import numpy as np
@@ -45,7 +45,14 @@ class CondensedSystem:
 
     @property
     def n_contacts(self) -> int:
-        return self.Sc.shape[0]
+        return self.problem.n_contacts
+
+    def released(self) -> "CondensedSystem":
+        """This system without the sparse factor (``schur`` None: no field recovery) and without its dense
+        blocks S, Sc, Gs (0-row arrays), for a caller that has recovered every field it needs: at millions of
+        dofs the factor is most of the memory (``deckbridge solve`` releases it before writing its VTUs)."""
+        empty = np.zeros((0, 0))
+        return replace(self, S=empty, Sc=empty, Gs=empty, schur=None)
 
     @property
     def dofs(self) -> int:
