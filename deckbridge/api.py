@@ -71,6 +71,8 @@ def solve(model: Model, method: str = LAGRANGE, *, k_factor: float = 1.0, alpha:
         raise DeckbridgeError(f"algorithm = {algorithm!r}: only for method lagrange")
     mesh, system, t0 = condense_timed(model, k_factor, alpha, mesh)
     kf, system = bind(model, system, method, k_factor, alpha)          # the penalty factor and springs, once
+    if release and not hasattr(system, "base"):      # the laws run on S_c; the recovery reads the factor
+        system = system.without_S()
     df, summary, sol, system = solve_bound(model, mesh, system, kf, method, algorithm=algorithm,
                                            on_increment=on_increment, recover=False)
     every = None

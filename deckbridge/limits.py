@@ -9,10 +9,11 @@ Memory of a solve (``check_memory``), in two tiers:
   starts at once.
 - ``symbolic_estimate``, from the mesh's own symbolic factorisation (CHOLMOD ``analyze`` of its node
   graph gives the factor's entries before any numeric work; :mod:`reference_solver.estimate`) plus the
-  arrays the command holds: the load path (:func:`reference_solver.estimate.estimate_peak_bytes`) and,
-  with ``outputs.vtu``, the VTU stage (the factor still held for the recovery, every state's
-  displacements, the Gauss-point strain operator being built, the states' fields). Run only when the
-  quick bound does not fit (it builds the mesh and its graph: seconds at 1M dof).
+  arrays the command holds: the load path (the factor and PATH_DENSE_ARRAYS nr x nr arrays of the condensed
+  contact problem) and, with ``outputs.vtu``, the VTU stage (every state's displacements, the Gauss-point
+  strain operator being built, the states' fields; `deckbridge solve` has released the factor and the
+  dense blocks by then). Run only when the quick bound does not fit (it builds the mesh and its graph:
+  seconds at 1M dof, minutes at 3M).
 A model whose estimate exceeds the memory available now (psutil when installed, else /proc/meminfo
 MemAvailable) is refused with one line naming the mesh keys and the estimate, unless ``--allow-large``
 is given or the environment sets ``DECKBRIDGE_ALLOW_LARGE=1``. Even then, a mesh whose stiffness matrix
@@ -54,8 +55,11 @@ STRESS_THREADS = 2                # reference_solver.recover.STRESS_THREADS: chu
 PROCESS_BYTES = 170 * 2**20        # interpreter, NumPy/SciPy/pandas/CHOLMOD, deckbridge
 FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and CHOLMOD's workspace
 SPLIT_BYTES_PER_NODE = 230 * 27    # node-pair blocks, their indices and the permuted CSC triangle
-PATH_DENSE_ARRAYS = 6.5            # nr x nr float64 arrays alive at once on the load path (Schur, contact)
-VTU_DENSE_ARRAYS = 4               # ... still held while the VTUs are written
+# nr x nr float64 arrays alive at once beside the factor in `deckbridge solve` (counted, bench/README.md "Dense
+# blocks at the peak"): the Schur step's trailing block L_rr and L_rr L_rr^T (2), then S with S_c, G_s (ns x nc)
+# and the dense factor of S_c's contact rows (1.8), S dropped for the path (0.9) and the recovery (1.6)
+PATH_DENSE_ARRAYS = 2.0
+VTU_DENSE_ARRAYS = 0               # `deckbridge solve` releases the factor and the dense blocks before its VTUs
 ESTIMATE_MARGIN = 1.05             # for what the fit does not hold (allocator, the other method): 1.08-1.14 x measured
 ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
 MAX_K_FACTORS = 100
@@ -156,9 +160,10 @@ def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: in
     """The peak [bytes] of a solve of ``n_nodes`` nodes, ``n_hex`` hexahedra, ``n_retained`` retained
     dofs and a factor of ``factor_entries`` entries, writing ``states`` VTUs when ``vtu``: the largest of
     the split (K as node-pair blocks and its permuted triangle), the load path (the factor, about
-    PATH_DENSE_ARRAYS nr x nr arrays) and the VTU stage (the factor still held, every state's fields, the
-    strain operator of one chunk of elements being built). Monotone in every argument. Fitted on `deckbridge solve` (penalty) at
-    100k dof, five proportions, and 205k (bench/README.md): estimate / measured peak 1.08-1.14."""
+    PATH_DENSE_ARRAYS nr x nr arrays) and the VTU stage (every state's fields, the strain operator of one
+    chunk of elements being built; ``deckbridge solve`` has released the factor and the dense blocks by then).
+    Monotone in every argument. Fitted on `deckbridge solve` (penalty) at 100k-200k dof, every proportion
+    of bench/README.md "Dense blocks at the peak" (estimate / measured peak there)."""
     n, N, nr2 = int(n_nodes), 3 * int(n_nodes), float(n_retained) ** 2
     base = PROCESS_BYTES + 200 * n + 130 * n_hex                 # interpreter and libraries, mesh, problem
     factor = FACTOR_BYTES_PER_ENTRY * float(factor_entries)
@@ -166,7 +171,7 @@ def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: in
     if vtu:
         fields = states * 8 * (STATE_POINT_FLOATS * n + STATE_CELL_FLOATS * n_hex)     # every state's VTU data
         operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * min(n_hex, STRESS_THREADS * STRESS_CHUNK)
-        parts["vtu"] = base + factor + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator
+        parts["vtu"] = base + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator      # factor released
     return Estimate(ESTIMATE_MARGIN * max(parts.values()), N, int(n_retained), int(factor_entries), parts)
 
 

@@ -47,6 +47,14 @@ class CondensedSystem:
     def n_contacts(self) -> int:
         return self.problem.n_contacts
 
+    def without_S(self) -> "CondensedSystem":
+        """This system without the nr x nr S (0-row array) when its recovery does not read it (the trailing
+        Schur with the factor read in place, the 'rhs' one): the contact laws run on Sc; S serves only to
+        re-bind springs (deckbridge.tangent_springs). Else the system itself."""
+        if self.schur is None or self.schur.recover_uses_S:
+            return self
+        return replace(self, S=np.zeros((0, 0)), schur=replace(self.schur, S=np.zeros((0, 0))))
+
     def released(self) -> "CondensedSystem":
         """This system without the sparse factor (``schur`` None: no field recovery) and without its dense
         blocks S, Sc, Gs (0-row arrays), for a caller that has recovered every field it needs: at millions of
