@@ -57,8 +57,9 @@ FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and C
 SPLIT_BYTES_PER_NODE = 230 * 27    # node-pair blocks, their indices and the permuted CSC triangle
 # nr x nr float64 arrays alive at once beside the factor in `deckbridge solve` (counted, bench/README.md "Dense
 # blocks at the peak"): the Schur step's trailing block L_rr and L_rr L_rr^T (2), then S with S_c, G_s (ns x nc)
-# and the dense factor of S_c's contact rows (1.8), S dropped for the path (0.9) and the recovery (1.6)
-PATH_DENSE_ARRAYS = 2.0
+# and the dense factor of S_c's contact rows (1.8), S dropped for the path (0.9) and the recovery (1.6); 2.2
+# fitted on the dense-dominated 800x16x2 (nr 5,600: estimate / peak 1.07) for the Schur step's other arrays
+PATH_DENSE_ARRAYS = 2.2
 VTU_DENSE_ARRAYS = 0               # `deckbridge solve` releases the factor and the dense blocks before its VTUs
 ESTIMATE_MARGIN = 1.05             # for what the fit does not hold (allocator, the other method): 1.08-1.14 x measured
 ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
