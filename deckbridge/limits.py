@@ -61,6 +61,11 @@ SPLIT_BYTES_PER_NODE = 230 * 27    # node-pair blocks, their indices and the per
 # fitted on the dense-dominated 800x16x2 (nr 5,600: estimate / peak 1.07) for the Schur step's other arrays
 PATH_DENSE_ARRAYS = 2.2
 VTU_DENSE_ARRAYS = 0               # `deckbridge solve` releases the factor and the dense blocks before its VTUs
+# a command that keeps the condensed system for later solves (`deckbridge run`: both methods, the report's
+# verdict) holds S, S_c, G_s throughout, the factor through its VTUs: counted 2.6 nr^2 on the path (S + S_c +
+# G_s + L_rr re-read while recovering), 1.6 beside the factor in the VTU stage (not measured at the peak)
+KEPT_PATH_DENSE_ARRAYS = 2.6
+KEPT_VTU_DENSE_ARRAYS = 1.6
 ESTIMATE_MARGIN = 1.05             # for what the fit does not hold (allocator, the other method): 1.08-1.14 x measured
 ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
 MAX_K_FACTORS = 100
@@ -141,8 +146,9 @@ class Estimate:
     parts: dict = field(default_factory=dict)
 
 
-def symbolic_estimate(model, mesh=None) -> Estimate:
-    """Peak memory of ``deckbridge solve`` on ``model`` from its mesh's own symbolic factorisation."""
+def symbolic_estimate(model, mesh=None, released: bool = True) -> Estimate:
+    """Peak memory of ``deckbridge solve`` on ``model`` from its mesh's own symbolic factorisation;
+    ``released`` False: of a command that keeps the factor and the dense blocks (``deckbridge run``)."""
     from reference_solver import estimate
     from .mesh import build_mesh
     from .solve import build_problem
@@ -153,11 +159,11 @@ def symbolic_estimate(model, mesh=None) -> Estimate:
         nL = int(26.0 * 3 * p.n_nodes * max(1.0, float(np.log2(max(3 * p.n_nodes, 2)))))   # its shell fit
     nL += nr * (nr + 1) // 2                        # the retained dofs are ordered last: a dense trailing block
     rows = int(model.steps.increments) + 2          # states of the series (end of step 1, increments 0..n)
-    return solve_estimate(p.n_nodes, len(p.hexes), nr, nL, rows, bool(model.outputs.vtu))
+    return solve_estimate(p.n_nodes, len(p.hexes), nr, nL, rows, bool(model.outputs.vtu), released)
 
 
 def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: int, states: int,
-                   vtu: bool = True) -> Estimate:
+                   vtu: bool = True, released: bool = True) -> Estimate:
     """The peak [bytes] of a solve of ``n_nodes`` nodes, ``n_hex`` hexahedra, ``n_retained`` retained
     dofs and a factor of ``factor_entries`` entries, writing ``states`` VTUs when ``vtu``: the largest of
     the split (K as node-pair blocks and its permuted triangle), the load path (the factor, about
@@ -168,11 +174,13 @@ def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: in
     n, N, nr2 = int(n_nodes), 3 * int(n_nodes), float(n_retained) ** 2
     base = PROCESS_BYTES + 200 * n + 130 * n_hex                 # interpreter and libraries, mesh, problem
     factor = FACTOR_BYTES_PER_ENTRY * float(factor_entries)
-    parts = {"split": base + SPLIT_BYTES_PER_NODE * n, "load_path": base + factor + PATH_DENSE_ARRAYS * 8 * nr2}
+    dense = PATH_DENSE_ARRAYS if released else max(PATH_DENSE_ARRAYS, KEPT_PATH_DENSE_ARRAYS)
+    parts = {"split": base + SPLIT_BYTES_PER_NODE * n, "load_path": base + factor + dense * 8 * nr2}
     if vtu:
         fields = states * 8 * (STATE_POINT_FLOATS * n + STATE_CELL_FLOATS * n_hex)     # every state's VTU data
         operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * min(n_hex, STRESS_THREADS * STRESS_CHUNK)
-        parts["vtu"] = base + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator      # factor released
+        kept = 0.0 if released else factor + KEPT_VTU_DENSE_ARRAYS * 8 * nr2        # solve: released
+        parts["vtu"] = base + kept + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator
     return Estimate(ESTIMATE_MARGIN * max(parts.values()), N, int(n_retained), int(factor_entries), parts)
 
 
@@ -217,14 +225,16 @@ def _mesh_name(model) -> str:
     return f"mesh.n_theta x mesh.n_z x mesh.n_r = {m.n_theta} x {m.n_z} x {m.n_r}"
 
 
-def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = "", mesh=None) -> float:
+def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = "", mesh=None,
+                 released: bool = True) -> float:
     """Refuse ``model`` (one line naming the mesh keys, the estimate in it) when ``copies`` solves would
     not fit in the memory available now; returns the estimate [bytes].
 
     The quick arithmetic bound first (refuses n_theta = 10^6 in microseconds); when it does not fit, the
     estimate from the mesh's symbolic factorisation decides (:func:`symbolic_estimate`, ``mesh`` when
     already built, or a function building it, called only then), so that a model that fits is not refused
-    on the bound alone.
+    on the bound alone. ``released``: the command frees the factor and the dense blocks before its VTUs
+    (``deckbridge solve``); False for one that keeps them (``deckbridge run``).
     """
     m = model.mesh
     n = model_dofs(model)
@@ -243,7 +253,7 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
     if have is not None and floor > have:           # no symbolic analysis (seconds to minutes) to refuse this
         need, how = max(need, floor), "its dense contact block alone"
     elif have is not None and need > have and n <= SYMBOLIC_MAX_DOFS and copies * FLOOR_BYTES_PER_DOF * n <= have:
-        need, how = copies * symbolic_estimate(model, mesh() if callable(mesh) else mesh).bytes, \
+        need, how = copies * symbolic_estimate(model, mesh() if callable(mesh) else mesh, released).bytes, \
             "from its symbolic factorisation"
     if have is not None and need > have:
         each = f" ({copies} at once)" if copies > 1 else ""

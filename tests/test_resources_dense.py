@@ -107,3 +107,32 @@ def test_the_guard_counts_the_dense_arrays_a_solve_holds():
         uc = np.zeros(p.n_contacts)
         co = np.ones(len(system.case_names))
         assert np.array_equal(light.recover(uc, co), system.recover(uc, co))    # the same recovery without S
+
+
+def test_a_command_that_keeps_the_system_is_estimated_with_its_factor_and_blocks(tmp_path):
+    """`deckbridge run` keeps the condensed system (both methods, the report's verdict): its estimate counts S,
+    S_c, G_s beside the factor in the VTU stage (checked against those arrays), and the run command is refused
+    where `deckbridge solve`, which frees them, is not."""
+    from click.testing import CliRunner
+
+    from deckbridge.cli import main
+    p = _problem(["mesh.n_r=2"])
+    system = condense(p)
+    nr = p.n_contacts + p.n_springs
+    held = system.S.nbytes + system.Sc.nbytes + system.Gs.nbytes
+    assert held <= limits.KEPT_VTU_DENSE_ARRAYS * 8 * nr * nr <= 1.25 * held
+    assert held + 8 * nr * nr <= limits.KEPT_PATH_DENSE_ARRAYS * 8 * nr * nr <= 1.25 * (held + 8 * nr * nr)
+    m = load(None, SMALL + ["mesh.n_r=2"])
+    solve_est, run_est = limits.symbolic_estimate(m), limits.symbolic_estimate(m, released=False)
+    assert run_est.parts["vtu"] - solve_est.parts["vtu"] >= limits.FACTOR_BYTES_PER_ENTRY * run_est.factor_entries
+    assert run_est.bytes > solve_est.bytes
+    mid = 0.5 * (solve_est.bytes + run_est.bytes)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.delenv(limits.ALLOW_ENV, raising=False)
+        mp.setattr(limits, "available_bytes", lambda: mid)
+        assert limits.check_memory(m) == pytest.approx(solve_est.bytes)
+        with pytest.raises(Exception, match="from its symbolic factorisation"):
+            limits.check_memory(m, released=False)
+        sets = [a for s in SMALL + ["mesh.n_r=2"] for a in ("--set", s)]
+        res = CliRunner().invoke(main, ["run", *sets, "-o", str(tmp_path / "o")])
+        assert res.exit_code != 0 and "from its symbolic factorisation" in res.output
