@@ -155,12 +155,13 @@ def symbolic_estimate(model, mesh=None, released: bool = True) -> Estimate:
     from .solve import build_problem
     p = build_problem(model, mesh or build_mesh(model))
     nr = int(p.n_contacts + p.n_springs)
-    nL = estimate.factor_entries(p.hexes, p.n_nodes)
+    cells = [b.cells for b in p.blocks]              # every block (a mixed mesh's hexes alone are not all)
+    nL = estimate.factor_entries(cells, p.n_nodes)
     if nL is None:                                  # no CHOLMOD: the shell fit of reference_solver.estimate
         nL = int(26.0 * 3 * p.n_nodes * max(1.0, float(np.log2(max(3 * p.n_nodes, 2)))))   # its shell fit
     nL += nr * (nr + 1) // 2                        # the retained dofs are ordered last: a dense trailing block
     rows = int(model.steps.increments) + 2          # states of the series (end of step 1, increments 0..n)
-    return solve_estimate(p.n_nodes, len(p.hexes), nr, nL, rows, bool(model.outputs.vtu), released)
+    return solve_estimate(p.n_nodes, sum(len(c) for c in cells), nr, nL, rows, bool(model.outputs.vtu), released)
 
 
 def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: int, states: int,
