@@ -10,6 +10,8 @@ load average (memory does not depend on it, time does).
 
     python bench/memory_guard.py --mesh 160x70x2 --mesh 320x35x2 --mesh 60x180x2 --mesh 160x100x1 --mesh 160x50x3
     python bench/memory_guard.py --mesh 160x70x2 --set outputs.vtu=false      # the solve without VTUs
+    python bench/memory_guard.py --mesh 800x16x2                               # dense-dominated (nr 5,600)
+    python bench/memory_guard.py --estimate-only --mesh 1292x257x2              # the estimate alone (3M: minutes)
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ def main(argv=None) -> int:
     ap.add_argument("--method", default="penalty", choices=["penalty", "lagrange"])
     ap.add_argument("--set", dest="extra", action="append", default=[], help="more model overrides")
     ap.add_argument("--json", help="append the rows to this JSON-lines file")
+    ap.add_argument("--estimate-only", action="store_true", help="print the guard's estimate and its parts, solve nothing")
     a = ap.parse_args(argv)
     from deckbridge import limits
     from deckbridge.model import load
@@ -55,6 +58,13 @@ def main(argv=None) -> int:
     for spec in a.mesh:
         mesh = tuple(int(x) for x in spec.split("x"))
         load_avg = os.getloadavg()[0]
+        if a.estimate_only:
+            model = load(None, [f"mesh.n_theta={mesh[0]}", f"mesh.n_z={mesh[1]}", f"mesh.n_r={mesh[2]}", *a.extra])
+            est = limits.symbolic_estimate(model)
+            print(f"{spec:>12} {est.dofs:>9} {est.retained:>8} {'-':>8} {est.bytes / 2**20:>11.0f} {'-':>8}"
+                  f" {limits.quick_estimate(model) / 2**20:>9.0f}  factor entries {est.factor_entries:.3g}, parts GiB "
+                  + ", ".join(f"{k} {v / 2**30:.2f}" for k, v in est.parts.items()), flush=True)
+            continue
         res = measure(mesh, a.method, a.extra)
         model = load(None, [f"mesh.n_theta={mesh[0]}", f"mesh.n_z={mesh[1]}", f"mesh.n_r={mesh[2]}", *a.extra])
         est = limits.symbolic_estimate(model)

@@ -45,7 +45,7 @@ def _check_method(method: str) -> None:
 
 def solve(model: Model, method: str = LAGRANGE, *, k_factor: float = 1.0, alpha: float | None = None,
           algorithm: str | None = None, on_increment: Callable[[int, int, float], None] | None = None,
-          mesh=None) -> Solution:
+          mesh=None, release: bool = False) -> Solution:
     """Solve ``model`` with the reference solver and one contact method; what ``deckbridge solve`` computes.
 
     ``method``: 'penalty' (gap springs k_c = alpha A^2 K / V per node, CGAP/PGAP semantics) or 'lagrange'
@@ -54,7 +54,11 @@ def solve(model: Model, method: str = LAGRANGE, *, k_factor: float = 1.0, alpha:
     ``on_increment(step, increment, lambda)`` reports progress. The load path: step 1 N, step 2 N +
     lambda (T, M) up to steps.lambda_max, liftoff onsets bisected. Fields for :meth:`Solution.to_paraview`
     are recovered when ``model.outputs.vtu`` is true. ``mesh``: the model's mesh when already built
-    (:func:`deckbridge.mesh.build_mesh`), else built here.
+    (:func:`deckbridge.mesh.build_mesh`), else built here. ``release``: drop the sparse factor and the dense
+    condensed blocks once every field is recovered (``deckbridge solve`` does, before writing its VTUs: at
+    millions of dofs the factor is most of the memory); the Solution still writes its files and VTUs
+    (:meth:`Solution.write`, :meth:`Solution.to_paraview`) but recovers nothing more (:meth:`Solution.wall_stress`
+    gives None unless already filled).
     """
     from .solve import bind, condense_timed, solve_bound
     from .wall_stress import reference_section_onset
@@ -67,6 +71,8 @@ def solve(model: Model, method: str = LAGRANGE, *, k_factor: float = 1.0, alpha:
         raise DeckbridgeError(f"algorithm = {algorithm!r}: only for method lagrange")
     mesh, system, t0 = condense_timed(model, k_factor, alpha, mesh)
     kf, system = bind(model, system, method, k_factor, alpha)          # the penalty factor and springs, once
+    if release and not hasattr(system, "base"):      # the laws run on S_c; the recovery reads the factor
+        system = system.without_S()
     df, summary, sol, system = solve_bound(model, mesh, system, kf, method, algorithm=algorithm,
                                            on_increment=on_increment, recover=False)
     every = None
@@ -83,7 +89,20 @@ def solve(model: Model, method: str = LAGRANGE, *, k_factor: float = 1.0, alpha:
     if model.contact.tangential == "friction":
         from .friction_table import friction_table
         fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)
+    if release:
+        system = _released(system)
     return Solution(model, method, df, summary, friction=fric, _solved=(mesh, system, sol), _every_state=every)
+
+
+def _released(system):
+    """``system`` without its sparse factor and dense blocks (:meth:`reference_solver.CondensedSystem.released`);
+    a friction system keeps its factor in its frictionless ``base``."""
+    import dataclasses
+
+    import numpy as np
+    if hasattr(system, "base"):
+        return dataclasses.replace(system, base=system.base.released(), S=np.zeros((0, 0)), views={}, cache={})
+    return system.released()
 
 
 

@@ -9,10 +9,11 @@ Memory of a solve (``check_memory``), in two tiers:
   starts at once.
 - ``symbolic_estimate``, from the mesh's own symbolic factorisation (CHOLMOD ``analyze`` of its node
   graph gives the factor's entries before any numeric work; :mod:`reference_solver.estimate`) plus the
-  arrays the command holds: the load path (:func:`reference_solver.estimate.estimate_peak_bytes`) and,
-  with ``outputs.vtu``, the VTU stage (the factor still held for the recovery, every state's
-  displacements, the Gauss-point strain operator being built, the states' fields). Run only when the
-  quick bound does not fit (it builds the mesh and its graph: seconds at 1M dof).
+  arrays the command holds: the load path (the factor and PATH_DENSE_ARRAYS nr x nr arrays of the condensed
+  contact problem) and, with ``outputs.vtu``, the VTU stage (every state's displacements, the Gauss-point
+  strain operator being built, the states' fields; `deckbridge solve` has released the factor and the
+  dense blocks by then). Run only when the quick bound does not fit (it builds the mesh and its graph:
+  seconds at 1M dof, minutes at 3M).
 A model whose estimate exceeds the memory available now (psutil when installed, else /proc/meminfo
 MemAvailable) is refused with one line naming the mesh keys and the estimate, unless ``--allow-large``
 is given or the environment sets ``DECKBRIDGE_ALLOW_LARGE=1``. Even then, a mesh whose stiffness matrix
@@ -55,8 +56,17 @@ STRESS_THREADS = 2                # reference_solver.recover.STRESS_THREADS: chu
 PROCESS_BYTES = 170 * 2**20        # interpreter, NumPy/SciPy/pandas/CHOLMOD, deckbridge
 FACTOR_BYTES_PER_ENTRY = 1.1 * 8   # the factor's values, its integer part and CHOLMOD's workspace
 SPLIT_BYTES_PER_NODE = 230 * 27    # node-pair blocks, their indices and the permuted CSC triangle
-PATH_DENSE_ARRAYS = 6.5            # nr x nr float64 arrays alive at once on the load path (Schur, contact)
-VTU_DENSE_ARRAYS = 4               # ... still held while the VTUs are written
+# nr x nr float64 arrays alive at once beside the factor in `deckbridge solve` (counted, bench/README.md "Dense
+# blocks at the peak"): the Schur step's trailing block L_rr and L_rr L_rr^T (2), then S with S_c, G_s (ns x nc)
+# and the dense factor of S_c's contact rows (1.8), S dropped for the path (0.9) and the recovery (1.6); 2.2
+# fitted on the dense-dominated 800x16x2 (nr 5,600: estimate / peak 1.07) for the Schur step's other arrays
+PATH_DENSE_ARRAYS = 2.2
+VTU_DENSE_ARRAYS = 0               # `deckbridge solve` releases the factor and the dense blocks before its VTUs
+# a command that keeps the condensed system for later solves (`deckbridge run`: both methods, the report's
+# verdict) holds S, S_c, G_s throughout, the factor through its VTUs: counted 2.6 nr^2 on the path (S + S_c +
+# G_s + L_rr re-read while recovering), 1.6 beside the factor in the VTU stage (not measured at the peak)
+KEPT_PATH_DENSE_ARRAYS = 2.6
+KEPT_VTU_DENSE_ARRAYS = 1.6
 ESTIMATE_MARGIN = 1.05             # for what the fit does not hold (allocator, the other method): 1.08-1.14 x measured
 ALLOW_ENV = "DECKBRIDGE_ALLOW_LARGE"
 MAX_K_FACTORS = 100
@@ -137,37 +147,42 @@ class Estimate:
     parts: dict = field(default_factory=dict)
 
 
-def symbolic_estimate(model, mesh=None) -> Estimate:
-    """Peak memory of ``deckbridge solve`` on ``model`` from its mesh's own symbolic factorisation."""
+def symbolic_estimate(model, mesh=None, released: bool = True) -> Estimate:
+    """Peak memory of ``deckbridge solve`` on ``model`` from its mesh's own symbolic factorisation;
+    ``released`` False: of a command that keeps the factor and the dense blocks (``deckbridge run``)."""
     from reference_solver import estimate
     from .mesh import build_mesh
     from .solve import build_problem
     p = build_problem(model, mesh or build_mesh(model))
     nr = int(p.n_contacts + p.n_springs)
-    nL = estimate.factor_entries(p.hexes, p.n_nodes)
+    cells = [b.cells for b in p.blocks]              # every block (a mixed mesh's hexes alone are not all)
+    nL = estimate.factor_entries(cells, p.n_nodes)
     if nL is None:                                  # no CHOLMOD: the shell fit of reference_solver.estimate
         nL = int(26.0 * 3 * p.n_nodes * max(1.0, float(np.log2(max(3 * p.n_nodes, 2)))))   # its shell fit
     nL += nr * (nr + 1) // 2                        # the retained dofs are ordered last: a dense trailing block
     rows = int(model.steps.increments) + 2          # states of the series (end of step 1, increments 0..n)
-    return solve_estimate(p.n_nodes, len(p.hexes), nr, nL, rows, bool(model.outputs.vtu))
+    return solve_estimate(p.n_nodes, sum(len(c) for c in cells), nr, nL, rows, bool(model.outputs.vtu), released)
 
 
 def solve_estimate(n_nodes: int, n_hex: int, n_retained: int, factor_entries: int, states: int,
-                   vtu: bool = True) -> Estimate:
+                   vtu: bool = True, released: bool = True) -> Estimate:
     """The peak [bytes] of a solve of ``n_nodes`` nodes, ``n_hex`` hexahedra, ``n_retained`` retained
     dofs and a factor of ``factor_entries`` entries, writing ``states`` VTUs when ``vtu``: the largest of
     the split (K as node-pair blocks and its permuted triangle), the load path (the factor, about
-    PATH_DENSE_ARRAYS nr x nr arrays) and the VTU stage (the factor still held, every state's fields, the
-    strain operator of one chunk of elements being built). Monotone in every argument. Fitted on `deckbridge solve` (penalty) at
-    100k dof, five proportions, and 205k (bench/README.md): estimate / measured peak 1.08-1.14."""
+    PATH_DENSE_ARRAYS nr x nr arrays) and the VTU stage (every state's fields, the strain operator of one
+    chunk of elements being built; ``deckbridge solve`` has released the factor and the dense blocks by then).
+    Monotone in every argument. Fitted on `deckbridge solve` (penalty) at 100k-200k dof, every proportion
+    of bench/README.md "Dense blocks at the peak" (estimate / measured peak there)."""
     n, N, nr2 = int(n_nodes), 3 * int(n_nodes), float(n_retained) ** 2
     base = PROCESS_BYTES + 200 * n + 130 * n_hex                 # interpreter and libraries, mesh, problem
     factor = FACTOR_BYTES_PER_ENTRY * float(factor_entries)
-    parts = {"split": base + SPLIT_BYTES_PER_NODE * n, "load_path": base + factor + PATH_DENSE_ARRAYS * 8 * nr2}
+    dense = PATH_DENSE_ARRAYS if released else max(PATH_DENSE_ARRAYS, KEPT_PATH_DENSE_ARRAYS)
+    parts = {"split": base + SPLIT_BYTES_PER_NODE * n, "load_path": base + factor + dense * 8 * nr2}
     if vtu:
         fields = states * 8 * (STATE_POINT_FLOATS * n + STATE_CELL_FLOATS * n_hex)     # every state's VTU data
         operator = STRAIN_OPERATOR_COPIES * STRAIN_OPERATOR_BYTES * min(n_hex, STRESS_THREADS * STRESS_CHUNK)
-        parts["vtu"] = base + factor + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator
+        kept = 0.0 if released else factor + KEPT_VTU_DENSE_ARRAYS * 8 * nr2        # solve: released
+        parts["vtu"] = base + kept + VTU_DENSE_ARRAYS * 8 * nr2 + fields + operator
     return Estimate(ESTIMATE_MARGIN * max(parts.values()), N, int(n_retained), int(factor_entries), parts)
 
 
@@ -212,14 +227,16 @@ def _mesh_name(model) -> str:
     return f"mesh.n_theta x mesh.n_z x mesh.n_r = {m.n_theta} x {m.n_z} x {m.n_r}"
 
 
-def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = "", mesh=None) -> float:
+def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = "", mesh=None,
+                 released: bool = True) -> float:
     """Refuse ``model`` (one line naming the mesh keys, the estimate in it) when ``copies`` solves would
     not fit in the memory available now; returns the estimate [bytes].
 
     The quick arithmetic bound first (refuses n_theta = 10^6 in microseconds); when it does not fit, the
     estimate from the mesh's symbolic factorisation decides (:func:`symbolic_estimate`, ``mesh`` when
     already built, or a function building it, called only then), so that a model that fits is not refused
-    on the bound alone.
+    on the bound alone. ``released``: the command frees the factor and the dense blocks before its VTUs
+    (``deckbridge solve``); False for one that keeps them (``deckbridge run``).
     """
     m = model.mesh
     n = model_dofs(model)
@@ -238,7 +255,7 @@ def check_memory(model, allow_large: bool = False, copies: int = 1, what: str = 
     if have is not None and floor > have:           # no symbolic analysis (seconds to minutes) to refuse this
         need, how = max(need, floor), "its dense contact block alone"
     elif have is not None and need > have and n <= SYMBOLIC_MAX_DOFS and copies * FLOOR_BYTES_PER_DOF * n <= have:
-        need, how = copies * symbolic_estimate(model, mesh() if callable(mesh) else mesh).bytes, \
+        need, how = copies * symbolic_estimate(model, mesh() if callable(mesh) else mesh, released).bytes, \
             "from its symbolic factorisation"
     if have is not None and need > have:
         each = f" ({copies} at once)" if copies > 1 else ""

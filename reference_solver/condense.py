@@ -10,7 +10,7 @@ r_c = S_c u_c - f_c(load); spring dofs u_s = S_ss^-1 (fhat_s - S_sc u_c); spring
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Mapping
 
 import numpy as np
@@ -45,7 +45,22 @@ class CondensedSystem:
 
     @property
     def n_contacts(self) -> int:
-        return self.Sc.shape[0]
+        return self.problem.n_contacts
+
+    def without_S(self) -> "CondensedSystem":
+        """This system without the nr x nr S (0-row array) when its recovery does not read it (the trailing
+        Schur with the factor read in place, the 'rhs' one): the contact laws run on Sc; S serves only to
+        re-bind springs (deckbridge.tangent_springs). Else the system itself."""
+        if self.schur is None or self.schur.recover_uses_S:
+            return self
+        return replace(self, S=np.zeros((0, 0)), schur=replace(self.schur, S=np.zeros((0, 0))))
+
+    def released(self) -> "CondensedSystem":
+        """This system without the sparse factor (``schur`` None: no field recovery) and without its dense
+        blocks S, Sc, Gs (0-row arrays), for a caller that has recovered every field it needs: at millions of
+        dofs the factor is most of the memory (``deckbridge solve`` releases it before writing its VTUs)."""
+        empty = np.zeros((0, 0))
+        return replace(self, S=empty, Sc=empty, Gs=empty, schur=None)
 
     @property
     def dofs(self) -> int:
@@ -78,6 +93,22 @@ class CondensedSystem:
         if not np.all(np.isfinite(u)):
             raise ReferenceSolverError("non-finite displacements in the recovered field")
         return u if many else u[0]
+
+
+def contact_operator(S: np.ndarray, nc: int, Gs: np.ndarray, block: int = 512) -> np.ndarray:
+    """S_c = sym(S_cc - S_cs Gs) (nc, nc) with one nc x nc array alive: the product is written over by the
+    difference, then made exactly symmetric block by block; the same numbers as ``0.5 * (A + A.T)`` of
+    ``A = S_cc - S_cs @ Gs`` (each entry 0.5 (a_ij + a_ji), addition commutes), without its three temporaries."""
+    Sc = S[:nc, nc:] @ Gs
+    np.subtract(S[:nc, :nc], Sc, out=Sc)
+    for b in range(0, nc, block):
+        e = min(b + block, nc)
+        for c in range(0, b + 1, block):
+            f = min(c + block, nc)
+            avg = 0.5 * (Sc[b:e, c:f] + Sc[c:f, b:e].T)
+            Sc[b:e, c:f] = avg
+            Sc[c:f, b:e] = avg.T
+    return Sc
 
 
 def load_vectors(p: Problem, dm: DofMap, names: tuple[str, ...]) -> np.ndarray:
@@ -179,8 +210,8 @@ def _condense(p: Problem, cases, factorize, schur) -> CondensedSystem:
     t3 = time.perf_counter()
     t1 = t0 + times["assembly_s"]
     nc, ns = p.n_contacts, p.n_springs
-    S = sc.S.copy()
-    S[np.arange(nc, nc + ns), np.arange(nc, nc + ns)] += p.spring_k
+    sc.add_diagonal(np.arange(nc, nc + ns), p.spring_k)    # S with the springs: the Schur's own array, no copy
+    S = sc.S
     if not (np.all(np.isfinite(S)) and np.all(np.isfinite(sc.fhat))):
         raise ReferenceSolverError("non-finite numbers in the condensed stiffness (check E, nu and the mesh)")
     if ns:
@@ -189,11 +220,11 @@ def _condense(p: Problem, cases, factorize, schur) -> CondensedSystem:
             raise ReferenceSolverError("mechanism: the spring dofs are not restrained with the contacts held")
         Gs = sla.cho_solve(cf, S[nc:, :nc])
         us0 = sla.cho_solve(cf, sc.fhat[nc:])
+        del cf
     else:
         Gs = np.zeros((0, nc))
         us0 = np.zeros((0, len(names)))
-    Sc = S[:nc, :nc] - S[:nc, nc:] @ Gs
-    Sc = 0.5 * (Sc + Sc.T)
+    Sc = contact_operator(S, nc, Gs)
     fc = sc.fhat[:nc] - S[:nc, nc:] @ us0
     t4 = time.perf_counter()
     mark("dense")

@@ -112,6 +112,15 @@ class Schur:
     recover: Callable[[np.ndarray, np.ndarray], np.ndarray]
     method: str
     timings: dict = field(default_factory=dict)
+    recover_diagonal: np.ndarray | None = None     # (nr,) what ``recover`` adds to S's diagonal (trailing: D0)
+    recover_uses_S: bool = True                    # False: ``recover`` reads the factor only (S may be dropped)
+
+    def add_diagonal(self, rows: np.ndarray, values: np.ndarray) -> None:
+        """S[rows, rows] += values in place (the springs of the condensation: no second nr x nr copy of S), the
+        recovery unchanged: it still applies the condensed stiffness of the factor, (S - diag(values)) + D0."""
+        self.S[rows, rows] += values
+        if self.recover_diagonal is not None:
+            self.recover_diagonal[rows] -= values
 
 
 def _split(K: sp.spmatrix, r: np.ndarray):
@@ -153,7 +162,7 @@ def schur_rhs(K: sp.spmatrix, r: np.ndarray, F: np.ndarray, factorize: Factorize
         return u
 
     return Schur(0.5 * (S + S.T), fhat, recover, f"rhs:{factorize_name(factorize)}",
-                 {"split_s": t1 - t0, "factor_s": t2 - t1, "schur_s": t3 - t2})
+                 {"split_s": t1 - t0, "factor_s": t2 - t1, "schur_s": t3 - t2}, recover_uses_S=False)
 
 
 def schur_trailing(K: sp.spmatrix, r: np.ndarray, F: np.ndarray) -> Schur:
@@ -276,9 +285,10 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     S = C if np.array_equal(back, np.arange(nr)) else C[np.ix_(back, back)]    # S + D0, order of r
     del C
     S[np.diag_indices(nr)] -= d0                                     # S, exactly symmetric; S + D0 = S + d0 I
+    dd = np.array(d0, float)                 # D0, less what Schur.add_diagonal adds to S in place later
 
     def SD_times(x: np.ndarray) -> np.ndarray:                      # (S + D0) x without a second nr x nr array
-        return S @ x + d0.reshape((nr,) + (1,) * (np.ndim(x) - 1)) * x
+        return S @ x + dd.reshape((nr,) + (1,) * (np.ndim(x) - 1)) * x
 
     def solve_aug(b_perm: np.ndarray) -> np.ndarray:
         return np.asarray(f(b_perm))
@@ -300,23 +310,26 @@ def schur_from_trailing_factor(f, perm: np.ndarray, r: np.ndarray, F: np.ndarray
     fhat = F[r] + SD_times(Y)
     t3 = time.perf_counter()
 
+    def recover_half(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
+        # L_rr^-1 (S + D0) w = L_rr^T w (S + D0 = L_rr L_rr^T): neither S nor a triangular solve, the trailing
+        # block re-read from the factor for the call
+        shape = (n,) + np.shape(u_r)[1:]
+        z = Z0 @ coeffs
+        z[ni:] += trailing_block(f, n, nr).T @ (u_r - Y @ coeffs)
+        u = np.empty(shape)
+        u[perm] = np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
+        return u
+
     def recover(u_r: np.ndarray, coeffs: np.ndarray) -> np.ndarray:
         shape = (n,) + np.shape(u_r)[1:]
-        v = SD_times(u_r - Y @ coeffs)
-        u = np.empty(shape)
-        if half:
-            z = Z0 @ coeffs
-            z[ni:] += sla.solve_triangular(trailing_block(f, n, nr), v, lower=True, check_finite=False)
-            u[perm] = np.asarray(f.solve_Lt(z, use_LDLt_decomposition=False)).reshape(shape)
-            return u
-        b = np.empty(shape)
+        u, b = np.empty(shape), np.empty(shape)
         b[:ni] = Fi @ coeffs
-        b[ni:] = v
+        b[ni:] = SD_times(u_r - Y @ coeffs)
         u[perm] = solve_aug(b).reshape(shape)
         return u
 
-    return Schur(S, fhat, recover, "cholmod-trailing",
-                 {**timings, "schur_s": t3 - t2, "trailing_read": how})
+    return Schur(S, fhat, recover_half if half else recover, "cholmod-trailing",
+                 {**timings, "schur_s": t3 - t2, "trailing_read": how}, recover_diagonal=dd, recover_uses_S=not half)
 
 
 def gram_lower(L: np.ndarray, block: int = 1024) -> np.ndarray:

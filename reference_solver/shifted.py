@@ -42,6 +42,7 @@ class ShiftedSolver:
     def _refactor(self, D: np.ndarray) -> bool:
         self.factorisations += 1
         COUNTS["factorisations"] += 1
+        self.cf, self.cols = None, {}                # the old factor goes before the new one is made (one n x n)
         A = self.S.copy()
         A[np.diag_indices_from(A)] += D
         cf = cholesky_dense(A, overwrite=True)
@@ -152,6 +153,7 @@ class SubsetSolver:
     def _refactor(self, I: np.ndarray) -> bool:
         self.factorisations += 1
         COUNTS["factorisations"] += 1
+        self.cf, self.cols = None, {}                # the old factor goes before the new one is made
         self.cf = cholesky_dense(self.S[np.ix_(I, I)], overwrite=True) if I.size else None
         self.idx0, self.cols = (I.copy() if self.cf is not None else None), {}
         self.pos0[:] = -1

@@ -23,11 +23,16 @@ from .linalg import _SINGULAR, Schur, _cholmod, schur_from_trailing_factor
 from .stages import mark
 
 ORDERING = "default"   # CHOLMOD ordering method for the node graph (AMD, METIS when it is better)
-# From this many nodes on the node graph is ordered by METIS outright: CHOLMOD's default keeps AMD there
-# (its test, flops / nnz(L) >= 500, is 3x smaller on the node graph than on the dof graph), and AMD's
+# From this many nodes on the node graph is ordered by LARGE_ORDERING outright: CHOLMOD's default keeps AMD
+# there (its test, flops / nnz(L) >= 500, is 3x smaller on the node graph than on the dof graph), and AMD's
 # factor took 1.3-1.4x METIS's CPU at 205k dof (METIS itself +1 s). Below it (the pinned models) the
 # ordering, and so the factor, stay as they were.
 METIS_MIN_NODES = 20_000
+# CHOLMOD's ordering of the node graph from METIS_MIN_NODES nodes on ("metis" or "nesdis"; both need a
+# CHOLMOD built with METIS, without it CHOLMOD's default below). With the retained dofs moved last neither
+# wins on every mesh: NESDIS took 10 % fewer flops at 400k (320x140x2), 1-3 % fewer on four shapes, 9 %
+# more on 280x120x3 and 16 % more at 1M (500x220x2); see bench/README.md, "The retained dofs last".
+LARGE_ORDERING = "metis"
 
 
 def rotate_blocks(K: BlockStiffness, nodes: np.ndarray, R: np.ndarray) -> None:
@@ -56,12 +61,13 @@ def node_order(K: BlockStiffness) -> np.ndarray:
 
 
 def analyze_nodes(G: sp.csc_matrix, **kw):
-    """CHOLMOD ``analyze`` of a node graph ``G`` (n x n) with the ordering of the condensation: METIS from
-    ``METIS_MIN_NODES`` nodes on (CHOLMOD's default when it was built without METIS), else ``ORDERING``.
+    """CHOLMOD ``analyze`` of a node graph ``G`` (n x n) with the ordering of the condensation:
+    ``LARGE_ORDERING`` from ``METIS_MIN_NODES`` nodes on (CHOLMOD's default when it was built without METIS),
+    else ``ORDERING``.
     ``kw`` goes to ``analyze`` (e.g. ``mode``); shared with the memory estimate (estimate.factor_entries)."""
     if ORDERING == "default" and G.shape[0] >= METIS_MIN_NODES:
         try:
-            return _cholmod.analyze(G, ordering_method="metis", **kw)
+            return _cholmod.analyze(G, ordering_method=LARGE_ORDERING, **kw)
         except _cholmod.CholmodError:                    # no METIS in this CHOLMOD: its default below
             pass
     return _cholmod.analyze(G, ordering_method=ORDERING, **kw)

@@ -237,3 +237,18 @@ def test_run_with_ccx_on_hexahedra_and_wedges(tmp_path):
         d = _through_wall(g, "_r") - _through_wall(g, "_c")
         worst = max(worst, float(np.abs(d).max() / np.abs(g.sigma_n_pa_r).max()))
     assert worst <= TOL_CCX, worst
+
+
+def test_memory_estimate_counts_every_block(first):
+    """The guard's symbolic estimate analyses the node graph of every cell block (limits.symbolic_estimate): its
+    factor holds more entries than the hexahedra's graph alone, and it counts every cell."""
+    from reference_solver import estimate
+    from deckbridge.limits import symbolic_estimate
+    m = _model(first, "inp")
+    mesh = build_mesh(m)
+    p = build_problem(m, mesh)
+    e = symbolic_estimate(m, mesh)
+    hex_only = estimate.factor_entries([b.cells for b in p.blocks if b.cells.shape[1] == 8], p.n_nodes)
+    nr = int(p.n_contacts + p.n_springs)
+    assert e.factor_entries - nr * (nr + 1) // 2 > hex_only
+    assert p.n_elements == sum(first["counts"].values())

@@ -162,8 +162,9 @@ def model_options(func):
             built.append(build_mesh(model))
             return built[0]
 
-        limits.check_memory(model, allow_large, mesh=mesh_once)
         ctx = click.get_current_context()
+        limits.check_memory(model, allow_large, mesh=mesh_once,
+                            released=ctx.command.name == "solve")   # solve frees its factor before the VTUs
         ctx.meta["deckbridge.allow_large"] = allow_large
         ctx.meta[MESH_META] = built[0] if built else None      # the command reuses it (built once)
         return func(model=model, **kwargs)

@@ -43,7 +43,8 @@ def solve_cmd(model, method, alpha, k_factor, algorithm, outdir):
             bar.set_postfix_str(f"step {step} lambda {lam:.3g}")
             bar.update(1)
         result = solve(model, method, k_factor=k_factor, alpha=alpha, algorithm=algorithm, on_increment=progress,
-                       mesh=click.get_current_context().meta.get(MESH_META))     # the guard's, when it built one
+                       mesh=click.get_current_context().meta.get(MESH_META),     # the guard's, when it built one
+                       release=True)             # the factor and dense blocks go before the VTUs are written
     paths, summary = result.write(outdir), result.summary
     series = [p for p in paths if p.suffix == ".vtu" and p.name != "result.vtu"]   # listed in result.pvd
     for p in paths:
