@@ -57,7 +57,8 @@ def build_table_size(model) -> int:
 
 _RUNS: dict = {}
 # the compared mesh per element: C3D20R on 24 x 3 x 1 (cells 0.39 m wide, 0.67 m tall, one through the wall) carries
-# the reduced-integration checkerboard under N alone (docs/elements.md); 24 x 6 x 1 (0.33 m tall) does not
+# the distributing top's weights (reference HRZ, ccx consistent) to the base under N alone (docs/mortar_stop.md);
+# 24 x 6 x 1 (0.33 m tall) does not
 MESHES = {"hex20r": "24x6x1", "hex20": "24x3x1", "tet10": "24x3x1"}
 
 
@@ -133,7 +134,8 @@ def test_mortar_deck_forces_are_ccx_dual_multipliers_not_hat_ones(tmp_path_facto
     pytest.param("hex20r", "24x3x1", marks=pytest.mark.xfail(strict=True, reason=(
         "C3D20R on long cells (24 x 3 x 1: 0.39 m wide, 0.67 m tall, one through the wall): the reference's "
         "through-wall sigma_N alternates between corner and mid-side azimuths already under N alone (the "
-        "reduced-integration checkerboard, docs/elements.md): 2.21 % of the peak at lambda 0, 2.10 % at 0.4; "
+        "distributing top's weights, HRZ in the reference and consistent shares in ccx, carried to the base: with a "
+        "kinematic top the two agree to 0.00 %, docs/mortar_stop.md): 2.21 % of the peak at lambda 0, 2.10 % at 0.4; "
         "two through the wall (24 x 3 x 2) 2.14 %; shorter cells (24 x 6 x 1) 0.03 %, 48 x 6 x 1 0.05 %")))])
 def test_mortar_deck_matches_the_reference_lagrange_in_full_contact(tmp_path_factory, element, shape):
     """Through-wall sigma_N of ccx mortar within 2 % of the reference Lagrange's peak at every state of full
