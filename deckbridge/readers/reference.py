@@ -26,6 +26,7 @@ from ..errors import DeckbridgeError
 from .. import friction_table as FT
 from .. import wall_stress as WS
 from ..results import REQUIRED as COLUMNS, ResultsError, SourceResult, conform
+from ..methods import PENALTY
 from ._checks import checked
 from ._files import beside
 from ._nodemap import build_mesh, locate
@@ -81,7 +82,7 @@ def read(path: Path, model=None, mesh=None) -> pd.DataFrame:
         mesh = mesh if mesh is not None else build_mesh(model)
         check_against_model(out, model, src, mesh)
         if mesh.quadratic_faces:   # the face-integrated penalty's sigma_N: a projected pressure (_contact_law.py)
-            out = out.assign(law_weighted=(out["method"] == "penalty").to_numpy())
+            out = out.assign(law_weighted=(out["method"] == PENALTY).to_numpy())
     return out.assign(origin=[f"{str(src)!r}: line {i + 2}" for i in range(len(out))])   # for the contact-law check
 
 
