@@ -143,7 +143,10 @@ def _children(pid: int) -> list[int]:
     from pathlib import Path
     kids = []
     for task in Path(f"/proc/{pid}/task").iterdir():
-        kids += [int(x) for x in (task / "children").read_text().split()]
+        try:
+            kids += [int(x) for x in (task / "children").read_text().split()]
+        except (FileNotFoundError, ProcessLookupError):     # the thread ended since the listing
+            continue
     return kids
 
 
