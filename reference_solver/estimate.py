@@ -17,7 +17,6 @@ supernodes store their diagonal blocks in full); without it a shell fit nL = 26 
 
 from __future__ import annotations
 
-import ctypes
 import math
 import warnings
 
@@ -36,22 +35,14 @@ def factor_entries(hexes, n_nodes: int) -> int | None:
     if _cholmod is None:
         return None
     from .assembly import node_pairs
-    from .trailing import analyze_nodes
+    from .trailing import analyze_nodes, supernodal_size
     rows, cols, _ = node_pairs(hexes if isinstance(hexes, (list, tuple)) else np.asarray(hexes), n_nodes)
     G = sp.csc_matrix((np.ones(rows.size), (rows, cols)), shape=(n_nodes, n_nodes))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         f = analyze_nodes(G, mode="supernodal")                          # the condensation's own ordering
-    try:
-        base = id(f)
-        if ctypes.c_void_p.from_address(base + 16).value != id(f._common):
-            return None
-        L = ctypes.c_void_p.from_address(base + 24).value
-        if ctypes.c_size_t.from_address(L).value != n_nodes or ctypes.c_int.from_address(L + 184).value != 1:
-            return None
-        return 9 * int(ctypes.c_size_t.from_address(L + 120).value)       # xsize of the node factor
-    except Exception:                                                   # pragma: no cover - defensive
-        return None
+    n9 = supernodal_size(f, n_nodes)
+    return None if n9 is None else 9 * n9                               # xsize of the node factor
 
 
 def estimate_peak_bytes(n_nodes: int, n_hex: int, n_contact: int, n_spring: int = 0,

@@ -49,15 +49,46 @@ def rotate_blocks(K: BlockStiffness, nodes: np.ndarray, R: np.ndarray) -> None:
 
 def node_order(K: BlockStiffness) -> np.ndarray:
     """Fill-reducing order of the nodes (new -> old) from CHOLMOD's analysis of the node graph."""
+    return node_analysis(K)[0]
+
+
+def node_analysis(K: BlockStiffness) -> tuple[np.ndarray, int | None]:
+    """(order of the nodes new -> old, entries of the dof-level factor of that order or None) from one CHOLMOD
+    analysis of the node graph (9 entries per node-factor entry; the retained dofs' trailing fill not counted)."""
     n = K.n_nodes
     indptr = np.searchsorted(K.rows, np.arange(n + 1)).astype(K.cols.dtype)
     G = sp.csc_matrix((np.ones(K.cols.size), K.cols, indptr), shape=(n, n))   # symmetric pattern
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", _cholmod.CholmodTypeConversionWarning)
         try:
-            return analyze_nodes(G).P()
+            f = analyze_nodes(G, mode="supernodal")
         except _cholmod.CholmodError:
             raise ReferenceSolverError(_SINGULAR) from None
+    entries = supernodal_size(f, n)
+    return f.P(), (None if entries is None else 9 * entries)
+
+
+def supernodal_size(f, n: int) -> int | None:
+    """Entries (xsize) of the supernodal CHOLMOD factor or analysis ``f`` of an n x n matrix, read from the
+    ``cholmod_factor`` struct (SuiteSparse 5 layout, every field checked); None where the layout is not the one
+    expected."""
+    import ctypes
+    try:
+        base = id(f)
+        if ctypes.c_void_p.from_address(base + 16).value != id(f._common):
+            return None
+        L = ctypes.c_void_p.from_address(base + 24).value
+        if ctypes.c_size_t.from_address(L).value != n or ctypes.c_int.from_address(L + 184).value != 1:
+            return None
+        return int(ctypes.c_size_t.from_address(L + 120).value)
+    except Exception:                                                   # pragma: no cover - defensive
+        return None
+
+
+# CHOLMOD's int (32-bit) version overflows past 2^31 factor entries: "problem too large" in the supernodal
+# symbolic analysis (measured: 1292 x 193 x 3, 3.0M dof, 1.99e9 entries estimated). From this many estimated
+# entries the factorisation runs on CHOLMOD's long (64-bit) version (the same ordering and arithmetic).
+LONG_INDEX_ENTRIES = 2**30
 
 
 def analyze_nodes(G: sp.csc_matrix, **kw):
@@ -119,7 +150,9 @@ def schur_blocks(holder: list, r: np.ndarray, F: np.ndarray) -> Schur:
         raise ReferenceSolverError(_SINGULAR)
     isr = np.zeros(n3, bool)
     isr[r] = True
-    dofs = (3 * node_order(K)[:, None] + np.arange(3)).ravel()
+    order, entries = node_analysis(K)
+    dofs = (3 * order[:, None] + np.arange(3)).ravel()
+    use_long = entries is None and n3 > 2**24 or (entries or 0) + nr * (nr + 1) // 2 >= LONG_INDEX_ENTRIES
     perm = np.concatenate([dofs[~isr[dofs]], r])                     # new -> old
     idx_t = np.int32 if n3 < 2**31 - 1 else np.int64
     iperm = np.empty(n3, idx_t)
@@ -134,7 +167,7 @@ def schur_blocks(holder: list, r: np.ndarray, F: np.ndarray) -> Schur:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", _cholmod.CholmodTypeConversionWarning)
         try:
-            f = _cholmod.cholesky(Kp, ordering_method="natural", mode="supernodal")
+            f = _cholmod.cholesky(Kp, ordering_method="natural", mode="supernodal", use_long=use_long)
         except _cholmod.CholmodNotPositiveDefiniteError:
             raise ReferenceSolverError(_SINGULAR) from None
     del Kp

@@ -69,3 +69,25 @@ def test_memory_estimate_analyses_with_the_condensation_ordering(forced_large):
     assert forced_large == [(p.n_nodes, trailing.LARGE_ORDERING)]
     # an upper bound of the dof factor's entries: at least the lower triangle of K, at most dense
     assert 0.5 * 27 * 3 * p.n_nodes <= nL <= 3 * p.n_nodes * (3 * p.n_nodes + 1) / 2
+
+
+def test_long_indices_give_the_same_condensation(monkeypatch):
+    """Past LONG_INDEX_ENTRIES estimated factor entries the factorisation runs on CHOLMOD's 64-bit version (its
+    32-bit one stops with 'problem too large' past 2^31 entries: 1292 x 193 x 3, 3.0M dof): forced on a small
+    mesh, the same Schur complement and loads bit for bit, and a factor with 64-bit indices."""
+    model = load(None, ["mesh.n_theta=24", "mesh.n_z=12", "mesh.n_r=1"])
+    p = build_problem(model, build_mesh(model))
+    base = rs.condense(p)
+    seen = []
+    cholesky = linalg._cholmod.cholesky
+
+    def spy(A, **kw):
+        seen.append(kw.get("use_long"))
+        return cholesky(A, **kw)
+
+    monkeypatch.setattr(trailing, "LONG_INDEX_ENTRIES", 0)
+    monkeypatch.setattr(trailing._cholmod, "cholesky", spy)
+    forced = rs.condense(p)
+    assert seen == [True] and forced.info["schur"] == "cholmod-trailing-blocks"
+    assert np.array_equal(forced.schur.S, base.schur.S) and np.array_equal(forced.schur.fhat, base.schur.fhat)
+    assert np.array_equal(forced.Sc, base.Sc)
