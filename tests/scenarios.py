@@ -19,6 +19,8 @@ from unittest import mock
 
 import pandas as pd
 
+import pytest
+
 from deckbridge.job import run_job
 from deckbridge.model import Model, load
 from deckbridge.readers import read
@@ -255,3 +257,15 @@ def table_state(df: pd.DataFrame):
     """(step, increment, load factor, rows) per state of a contact table, in order."""
     for (step, inc), g in df.groupby(["step", "increment"], sort=True):
         yield int(step), int(inc), float(g["load_factor"].iloc[0]), g
+
+
+def check_params(case: Case, checks, known) -> list:
+    """pytest params of ``case``'s invariants ``checks``, each a strict xfail with its reason where a ``known`` rule
+    (levels -> bool, the checks it covers or None for all, why) names it."""
+    out = []
+    for check in checks:
+        why = next((why for rule, covered, why in known
+                    if rule(case.levels) and (covered is None or check in covered)), None)
+        marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
+        out.append(pytest.param(check, id=f"{case.name}-{check}", marks=marks))
+    return out

@@ -14,7 +14,7 @@ import shutil
 import pytest
 
 from scenario_checks import CHECKS
-from scenarios import QUADRATIC_CASES, Case, run_case
+from scenarios import check_params, QUADRATIC_CASES, Case, run_case
 
 CASES = [Case(levels) for levels in QUADRATIC_CASES]
 
@@ -47,12 +47,7 @@ KNOWN = [
 
 
 def _params(case: Case) -> list:
-    out = []
-    for check in CHECKS:
-        why = next((why for rule, checks, why in KNOWN if rule(case.levels) and check in checks), None)
-        marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
-        out.append(pytest.param(check, id=f"{case.name}-{check}", marks=marks))
-    return out
+    return check_params(case, CHECKS, KNOWN)
 
 
 @pytest.fixture(scope="module")

@@ -16,7 +16,7 @@ import shutil
 import pytest
 
 from scenario_checks import CHECKS, refused_before_work
-from scenarios import REFUSED, Case, covering_array, run_case
+from scenarios import check_params, REFUSED, Case, covering_array, run_case
 
 CASES = [Case(levels) for levels in covering_array()]
 
@@ -52,13 +52,7 @@ KNOWN = [
 
 
 def _params(case: Case) -> list:
-    out = []
-    for check in CHECKS:
-        why = next((why for rule, checks, why in KNOWN
-                    if rule(case.levels) and (checks is None or check in checks)), None)
-        marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
-        out.append(pytest.param(check, id=f"{case.name}-{check}", marks=marks))
-    return out
+    return check_params(case, CHECKS, KNOWN)
 
 
 @pytest.fixture(scope="module")
