@@ -153,7 +153,7 @@ class SkirtMesh:
     k_tangent: np.ndarray      # circumferential restraint per table slave node [N/m]
     k_open_ratio: float        # open-gap stiffness / closed stiffness
     top_nodes: np.ndarray      # nodes of the loaded top face
-    top_weights: np.ndarray    # their tributary areas on the top face (RBE3 / distributing weights) [m^2]
+    top_weights: np.ndarray    # their distributing (RBE3) weights [m^2]: tributary areas; 8-/6-node: int N dA
     ref_point: np.ndarray      # reference node position, top centre [m]
     n_theta: int
     n_r: int

@@ -23,9 +23,11 @@ import numpy as np
 
 import reference_solver as rs
 from reference_solver.elements import element_type
+from reference_solver.quadrature import tri_rule
 
 from .face_areas import contact_areas, hrz_areas
 EIGHT_NODE = ("c3d8i", "c3d8")           # solver names built by deckbridge.mesh's own 8-node builder
+TOP_TRI6_RULE = tri_rule(2)              # ccx 2.20's rule for a 6-node face's distributing weights (top_weights)
 
 # hexahedron corners (dk, di, dj): C3D8 order of deckbridge.mesh
 _HEX = np.array([(0, 0, 0), (0, 1, 0), (0, 1, 1), (0, 0, 1), (1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)])
@@ -235,13 +237,44 @@ def _build(model):
 
     k_t = table.k.copy() if pen.k_tangent is None else np.full(table.nodes.size, float(pen.k_tangent))
     on_top = ijk[:, 0] == 2 * nz
-    top_nodes, top_w = hrz_areas(tuple(surface_faces(blocks, on_top)), nodes)
+    top_nodes, top_w = top_weights(tuple(surface_faces(blocks, on_top)), nodes)
     return SkirtMesh(nodes=nodes, hexes=cells, table=table, stop=stop, k_tangent=k_t,
                      k_open_ratio=pen.open_ratio, top_nodes=top_nodes, top_weights=top_w,
                      ref_point=np.array([0.0, 0.0, g.height]), n_theta=nt, n_r=nr, n_z=nz,
                      base_elems=base_elems, top_elems=_elems_with_face(et, cells, on_top),
                      stop_elems=stop_elems, element=et.name, table_faces=tfaces)
 
+
+
+def top_weights(faces, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distributing coupling's node weights [m^2] of a top surface ``faces`` [(face type, conn), ...]
+    (``SkirtMesh.top_weights``: the reference's ``coupling_weights`` and the RBE3 weights).
+
+    On 8- and 6-node faces the consistent shares int N_a dA (:func:`reference_solver.face_weights.face_shares`;
+    a regular quad8: corners -A/12, mid-sides A/3; tri6: corners 0, mid-sides A/3), integrated as ccx 2.20 does
+    (quad8 3 x 3 Gauss, tri6 the 3-point rule: ``TOP_TRI6_RULE``): the weights by which ccx's ``*COUPLING,
+    *DISTRIBUTING`` over the top surface spreads the force and the moment (measured: the same displacements as
+    ``*CLOAD`` of :func:`reference_solver.distributing_forces` with these weights on graded blocks with curved
+    top edges; the 6-point tri6 rule 0.19 % off there; tests/test_top_weights_ccx.py), so the reference loads
+    a quadratic top as the ccx and Abaqus decks do. A node's weight may be <= 0; their sum is the top's area.
+    A surface of 4- and 3-node faces only keeps the HRZ areas (:func:`deckbridge.face_areas.hrz_areas`, = the
+    tributary areas; pinned results). Returns (surface nodes ascending, weights)."""
+    from dataclasses import replace
+
+    from reference_solver.face_weights import face_shares
+    if all(ftype.n_nodes == ftype.n_corners for ftype, _ in faces):
+        return hrz_areas(faces, nodes)
+    surf = np.unique(np.concatenate([c.ravel() for _, c in faces]))
+    w = np.zeros(nodes.shape[0])
+    for ftype, conn in faces:
+        if ftype.n_nodes == 6:
+            ftype = replace(ftype, points=TOP_TRI6_RULE[0], weights=TOP_TRI6_RULE[1])
+        if ftype.n_nodes > ftype.n_corners:
+            np.add.at(w, conn.ravel(), face_shares(ftype, nodes[conn]).ravel())
+        else:
+            lin, a = hrz_areas(((ftype, conn),), nodes)
+            w[lin] += a
+    return surf, w[surf]
 
 
 # Measured (24 x 4 x 1 skirt, default loads, step 1 and lambda = 0.4 < liftoff; through-wall mean of the

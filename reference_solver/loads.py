@@ -15,7 +15,11 @@ from .errors import ReferenceSolverError
 
 def distributing_forces(xyz: np.ndarray, weights: np.ndarray, ref: np.ndarray,
                         force: np.ndarray, moment: np.ndarray) -> np.ndarray:
-    """Nodal forces (nt, 3) [N] statically equivalent to ``force`` and ``moment`` at ``ref``."""
+    """Nodal forces (nt, 3) [N] statically equivalent to ``force`` and ``moment`` at ``ref``: f_i = w_i F / sum w
+    + w_i (a x r_i), r_i from the weighted centroid, a from J a = the moment about it (J = sum w_i (|r_i|^2 I -
+    r_i r_i^T)). ``weights`` may hold zero or negative entries (the consistent shares of 8-/6-node faces) with a
+    positive sum; CalculiX's ``*COUPLING, *DISTRIBUTING`` spreads a load the same way (measured to the printed
+    digits with those shares)."""
     xyz, w = np.asarray(xyz, float), np.asarray(weights, float)
     force, moment = np.asarray(force, float), np.asarray(moment, float)
     c = (w[:, None] * xyz).sum(axis=0) / w.sum()

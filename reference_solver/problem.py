@@ -68,7 +68,7 @@ class Problem:
     spring_k: np.ndarray              # (ns,) [N/m]
     ref_point: np.ndarray             # (3,) [m]
     coupling_nodes: np.ndarray        # (nt,)
-    coupling_weights: np.ndarray      # (nt,) > 0
+    coupling_weights: np.ndarray      # (nt,) [m^2] finite, sum > 0 (entries may be <= 0: 8-/6-node faces)
     loads: Mapping[str, np.ndarray]   # name -> (6,) force and moment at ref_point
     coupling: str = "distributing"
     k_open_ratio: float = 1.0e-6      # open stiffness / closed stiffness (penalty)
@@ -199,8 +199,11 @@ class Problem:
             bad("contact_clearance: must be >= 0")
         if np.any(self.spring_k < 0):
             bad("spring_k: must be >= 0")
-        if nt == 0 or np.any(self.coupling_weights <= 0):
-            bad("coupling_nodes/weights: need at least one node and positive weights")
+        if nt == 0:
+            bad("coupling_nodes: need at least one node")
+        w = self.coupling_weights
+        if not (np.all(np.isfinite(w)) and w.sum() > 0):
+            bad(f"coupling_weights: must be finite with a positive sum (sum {w.sum()!r})")
         if np.unique(self.coupling_nodes).size != nt:
             bad("coupling_nodes: repeated node")
         if not (0 < self.k_open_ratio < 1):

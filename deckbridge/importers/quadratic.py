@@ -150,9 +150,9 @@ def quadratic_mesh(model, cell_blocks, nodes, base, top, stop_set, node_ids, ele
     from reference_solver.face_weights import surface_faces
 
     from ..errors import ModelError
-    from ..face_areas import contact_areas, hrz_areas
+    from ..face_areas import contact_areas
     from ..mesh_data import SkirtMesh, _slave_set
-    from ..mesh_order import _elems_with_face
+    from ..mesh_order import _elems_with_face, top_weights
     name = "+".join(n for n, _ in cell_blocks)            # 'c3d20r', or a mixed mesh's 'c3d20+c3d15'
     ets = [(element_type(n), c) for n, c in cell_blocks]
     pen, kbulk = model.contact.penalty, model.material.bulk_modulus
@@ -218,7 +218,7 @@ def quadratic_mesh(model, cell_blocks, nodes, base, top, stop_set, node_ids, ele
     top_faces = tuple(surface_faces(blocks, on_top))
     if not top_faces:
         raise ModelError("mesh.sets.top", model.mesh.sets.top, "holds no element's top face")
-    top_nodes, top_w = hrz_areas(top_faces, nodes)
+    top_nodes, top_w = top_weights(top_faces, nodes)
     corners = np.unique(np.concatenate([c[_elems_with_face(et, c, on_base)][:, :N_CORNERS[et.n_nodes]].ravel()
                                         for et, c in ets]))
     base_corners = np.intersect1d(corners, tnodes)
