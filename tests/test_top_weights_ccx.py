@@ -105,3 +105,28 @@ def test_problem_takes_top_weights_with_a_positive_sum():
                                atol=1e-9 * np.abs(LOAD).max())
     with pytest.raises(rs.ReferenceSolverError, match=r"^coupling_weights: must be finite with a positive sum"):
         rs.Problem(coupling_weights=-w, **kw)
+
+
+@pytest.mark.parametrize("element", ["hex20", "tet10"])
+def test_nastran_rbe3_carries_the_top_weights(tmp_path, element):
+    """The surface-contact Nastran deck's RBE3 on a quadratic top: pyNastran reads back WTi = top_weights node by node
+    (deck units m^2, 16-character fields: to 1e-9 of the largest), negative at the quad8 corners, with the deck
+    comment saying so (the QRGs type WTi as Real, no sign bound; nastran_cards.RBE3_CONSISTENT)."""
+    from pyNastran.bdf.bdf import read_bdf
+
+    from deckbridge.mesh import build_mesh
+    from deckbridge.model import load
+    from deckbridge.numbering.skirt import mesh_node_ids
+    from deckbridge.render.nastran_cards import RBE3_CONSISTENT
+    model = load(None, [f"mesh.element={element}", "mesh.n_theta=8", "mesh.n_z=1", "mesh.n_r=1",
+                        "contact.stop.side=none"])
+    mesh = build_mesh(model)
+    (path,) = DIALECTS["nastran_surface"].write(model, mesh, tmp_path)
+    assert "\n".join("$" + ln for ln in RBE3_CONSISTENT.splitlines()) in path.read_text()
+    (rbe,) = read_bdf(str(path), xref=True, debug=None).rigid_elements.values()
+    got = {nid: w for w, ids in zip(rbe.weights, rbe.Gijs) for nid in ids}
+    want = dict(zip(mesh_node_ids(mesh, mesh.top_nodes).tolist(), mesh.top_weights))
+    assert sorted(got) == sorted(want)
+    np.testing.assert_allclose([got[n] for n in want], list(want.values()), rtol=0,
+                               atol=1e-9 * mesh.top_weights.max())
+    assert (min(got.values()) < -0.2 * max(got.values())) == (element == "hex20")

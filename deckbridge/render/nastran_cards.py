@@ -49,9 +49,9 @@ EXPLICIT = {"PGAP", "NLPARM"}                      # every field written, none l
 
 
 def write_card(card) -> str:
-    """One card as deck text (pyNastran field writers, width per :data:`WIDTH`)."""
+    """One card as deck text (pyNastran field writers, width per :data:`WIDTH`), after its comment lines if any."""
     fields = card.raw_fields() if card.type in EXPLICIT else card.repr_fields()
-    return (print_card_16 if WIDTH.get(card.type, 8) == 16 else print_card_8)(fields)
+    return card.comment + (print_card_16 if WIDTH.get(card.type, 8) == 16 else print_card_8)(fields)
 
 
 def clean(v, rel: float = 1e-12) -> list[float]:
@@ -172,16 +172,25 @@ def _weight_groups(nodes: np.ndarray, weights: np.ndarray) -> list[tuple[float, 
     return [(float(np.mean(weights[np.isin(nodes, ids)])), ids) for ids in groups.values()]
 
 
+# On 8-/6-node top faces the RBE3 weights are the consistent shares int N dA (SkirtMesh.top_weights), <= 0 at the
+# corners: what ccx's and Abaqus' *COUPLING, *DISTRIBUTING and the reference use. The Nastran QRGs found (Autodesk
+# Nastran, OptiStruct, NASTRAN-CoFE) type WTi as Real with no sign bound; not run in a Nastran here.
+RBE3_CONSISTENT = (" RBE3 WTi: the top faces' consistent shares (int N dA; <= 0 at the\n"
+                   " corners of 8-/6-node faces), as ccx/Abaqus *DISTRIBUTING and the reference")
+
+
 def add_coupling(b: Bulk, model: Model, mesh: SkirtMesh, u: Units) -> None:
-    """Load introduction at the top face: RBE3 (distributing; weights = tributary top-face areas in
-    deck units) or RBE2 (kinematic)."""
+    """Load introduction at the top face: RBE3 (distributing; weights = ``mesh.top_weights`` in deck units:
+    tributary top-face areas, on 8-/6-node faces the consistent shares, commented) or RBE2 (kinematic)."""
     num = numbering(mesh)
     kind = model.load_introduction
     if kind == "distributing":
         groups = _weight_groups(mesh_node_ids(mesh, mesh.top_nodes), mesh.top_weights)
+        note = RBE3_CONSISTENT if np.any(mesh.top_weights <= 0) else ""
         b.put("coupling", b.bdf.add_rbe3(num.rigid_eid, refgrid=num.ref_node, refc="123456",
                                          weights=[w * u.length ** 2 for w, _ in groups],
-                                         comps=["123"] * len(groups), Gijs=[ids for _, ids in groups]))
+                                         comps=["123"] * len(groups), Gijs=[ids for _, ids in groups],
+                                         comment=note))
     elif kind == "kinematic":
         b.put("coupling", b.bdf.add_rbe2(num.rigid_eid, gn=num.ref_node, cm="123456",
                                          Gmi=[int(n) for n in mesh_node_ids(mesh, mesh.top_nodes)]))
