@@ -12,8 +12,9 @@ Rows: the tidy schema of :func:`deckbridge.solve.contact_table`, method ``mortar
 rows' ``area_m2`` = d = int T N dA (the multipliers' shares: Sum force_n = Sum of the nodal forces), without a
 base-wall sigma_zz table: the sigma_zz equilibrium check (``deckbridge/quantities.py``) on these rows read 2.15 % at
 lambda 0.8 and 17.6 % at 1 (hex20 24 x 3 x 1; the hat series 0.75 / 4.1 %), cause not looked into (the solution
-itself is ccx's to 2.4e-4 on one model; docs/mortar_stop.md). As rendered the deck and the reference still differ in two model details (the deck's
-springs on corner nodes only, ccx's ``*DISTRIBUTING`` top weights): docs/mortar_stop.md.
+itself is ccx's to 2.4e-4 on one model; docs/mortar_stop.md). As rendered the deck and the reference still differ in one model detail (the deck's
+springs on corner nodes only; the top weights are ccx's ``*DISTRIBUTING`` ones on both sides since round 5,
+``mesh_order.top_weights``): docs/mortar_stop.md.
 """
 
 from __future__ import annotations
