@@ -256,7 +256,8 @@ def top_weights(faces, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     *DISTRIBUTING`` over the top surface spreads the force and the moment (measured: the same displacements as
     ``*CLOAD`` of :func:`reference_solver.distributing_forces` with these weights on graded blocks with curved
     top edges; the 6-point tri6 rule 0.19 % off there; tests/test_top_weights_ccx.py), so the reference loads
-    a quadratic top as the ccx and Abaqus decks do. A node's weight may be <= 0; their sum is the top's area.
+    a quadratic top as the ccx deck does (and the Abaqus deck, whose ``*DISTRIBUTING`` is the same keyword; not
+    run here). A node's weight may be <= 0; their sum is the top's area.
     A surface of 4- and 3-node faces only keeps the HRZ areas (:func:`deckbridge.face_areas.hrz_areas`, = the
     tributary areas; pinned results). Returns (surface nodes ascending, weights)."""
     from dataclasses import replace
