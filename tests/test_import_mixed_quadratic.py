@@ -140,7 +140,8 @@ def test_decks_carry_both_types_with_springs_on_corners_and_no_slave_spc(solved)
     n_faces = {f.name: c.shape[0] for f, c in mesh.table_faces}
     assert n_faces == {"quad8": 24, "tri6": 48}
     table = set(mesh_node_ids(mesh, mesh.table.nodes).tolist())
-    corners = set(mesh_node_ids(mesh, np.concatenate([c[:, :f.n_corners].ravel() for f, c in mesh.table_faces])).tolist())
+    corners = np.concatenate([c[:, :f.n_corners].ravel() for f, c in mesh.table_faces])
+    corners = set(mesh_node_ids(mesh, corners).tolist())
     for deck in ("lagrange", "f2f"):
         path = solved["decks"] / f"{m.name}_ccx_{deck}.inp"
         raw = read_inp(path)
@@ -167,3 +168,113 @@ def test_decks_carry_both_types_with_springs_on_corners_and_no_slave_spc(solved)
     assert springs and springs <= table & corners
     assert sum(k_of[e] * len(nodes) for e, nodes in on.items()) == pytest.approx(float(np.sum(mesh.k_tangent)),
                                                                                   rel=1e-9)
+
+
+# Nastran's mid-side grids: the edge (corner grids, 1-based) of each, in grid order after the corners (QRG CHEXA,
+# CPENTA, CTETRA)
+NASTRAN_EDGES = {
+    "CHEXA": ((1, 2), (2, 3), (3, 4), (4, 1), (1, 5), (2, 6), (3, 7), (4, 8), (5, 6), (6, 7), (7, 8), (8, 5)),
+    "CPENTA": ((1, 2), (2, 3), (3, 1), (1, 4), (2, 5), (3, 6), (4, 5), (5, 6), (6, 4)),
+    "CTETRA": ((1, 2), (2, 3), (3, 1), (1, 4), (2, 4), (3, 4))}
+CORNERS = {"CHEXA": 8, "CPENTA": 6, "CTETRA": 4}
+
+
+@pytest.fixture(scope="module")
+def tet_files(tmp_path_factory):
+    return gmsh_mixed(tmp_path_factory.mktemp("tet_wedge"), order=2, n_theta=48, n_z=3, n_r=1, tet_layers=2)
+
+
+@pytest.mark.parametrize("which", ["hex_wedge", "tet_wedge"])
+def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, which):
+    """C3D20 + C3D15 and C3D10 + C3D15 (a wedge layer at the base under tetrahedra): the CalculiX mortar and
+    face-to-face decks, the Abaqus decks and the Simcenter surface-contact deck are written; the node-based ones
+    (Nastran and MYSTRAN CGAP) are left out with one line that says why; with the radial stop the face-weighted ones
+    are too.
+    pyNastran reads the surface deck back: the skirt's cells with their grid counts (20 / 15 / 10), every mid-side
+    grid at the middle of its edge in Nastran's order (within 5 % of the edge), the table layer one CHEXA 20 under
+    each quad8 face and one CPENTA 15 under each tri6 face; the Abaqus deck carries both types cell by cell."""
+    from pyNastran.bdf.bdf import read_bdf
+
+    from deckbridge.deck_elements import element_problem
+    from deckbridge.importers.inp_file import read_inp
+    from deckbridge.mesh import build_mesh
+    from deckbridge.numbering.skirt import mesh_node_ids
+    from deckbridge.render import render_all
+    f = files if which == "hex_wedge" else tet_files
+    m = _model(f)
+    mesh = build_mesh(m)
+    names = {"hex_wedge": ("C3D20", "C3D15"), "tet_wedge": ("C3D15", "C3D10")}[which]
+    assert tuple(n.upper() for n, _ in mesh.blocks) == names
+    notes = []
+    paths = render_all(m, tmp_path, mesh=mesh, on_unsupported=notes.append)
+    assert {p.name for p in paths} >= {f"{m.name}_{d}" for d in ("ccx_lagrange.inp", "ccx_f2f.inp", "lagrange.inp",
+                                                                  "surface.bdf")}
+    assert sorted(n.dialect for n in notes) == ["mystran", "nastran"]
+    for n in notes:
+        assert "\n" not in str(n) and f"({' + '.join(names)})" in str(n) and "node-based" in str(n), str(n)
+    stop = _model(f, "contact.stop.side=inner")
+    for dialect in ("calculix", "abaqus", "nastran_surface"):
+        why = element_problem(dialect, stop, build_mesh(stop))
+        assert "radial stop" in why and "\n" not in why, why
+    cells = {n.upper(): c for n, c in mesh.blocks}
+    raw = read_inp(tmp_path / f"{m.name}_lagrange.inp")
+    for t, c in cells.items():
+        assert {tuple(x) for x in raw.elements[t][1]} == {tuple(x) for x in mesh_node_ids(mesh, c)}, t
+    bdf = read_bdf(str(tmp_path / f"{m.name}_surface.bdf"), xref=False, debug=None)
+    xyz = {g: np.array(n.xyz) for g, n in bdf.nodes.items()}
+    count = {}
+    for e in bdf.elements.values():
+        if e.type not in NASTRAN_EDGES:
+            continue
+        count[e.type, len(e.node_ids)] = count.get((e.type, len(e.node_ids)), 0) + 1
+        g = [xyz[n] for n in e.node_ids]
+        k = CORNERS[e.type]
+        for (a, b), mid in zip(NASTRAN_EDGES[e.type], g[k:]):
+            assert np.linalg.norm(mid - (g[a - 1] + g[b - 1]) / 2) <= 0.05 * np.linalg.norm(g[a - 1] - g[b - 1]), e
+    faces = {ft.name: c.shape[0] for ft, c in mesh.table_faces}
+    card = {"C3D20": ("CHEXA", 20), "C3D15": ("CPENTA", 15), "C3D10": ("CTETRA", 10)}
+    want = {card[t]: c.shape[0] for t, c in cells.items()}
+    want[("CHEXA", 20)] = want.get(("CHEXA", 20), 0) + faces.get("quad8", 0)
+    want[("CPENTA", 15)] = want.get(("CPENTA", 15), 0) + faces.get("tri6", 0)
+    assert count == {k: v for k, v in want.items() if v}
+    assert sum(len(b.eids) for b in bdf.bsurfs.values()) == 2 * sum(faces.values())    # source and target faces
+
+
+def test_face_to_face_slopes_on_quad8_and_tri6_faces_add_up_to_the_nodes_k(files, tmp_path):
+    """With an explicit contact.penalty.k_normal (the same k on every node, unequal areas) the face-to-face deck's
+    LINEAR slopes differ from face to face (deck_elements.quadratic_face_slopes, on each cell's own face type): read
+    back from the deck, Sum over the slave faces of K_f x the face's area (its hat shares, face_weights.face_shares)
+    is the nodes' Sum k (measured 2.3e-9: faces of slopes within 1e-6 share one pair), and every pair has its own
+    master surface (quadratic_master.pair_masters)."""
+    from deckbridge.importers.inp_mesh import keyword_blocks
+    from deckbridge.mesh import build_mesh
+    from deckbridge.numbering.skirt import elem_ids
+    from deckbridge.render import render_all
+    from reference_solver.elements import element_type
+    from reference_solver.face_weights import face_shares
+    k = 1.0e8
+    m = _model(files, f"contact.penalty.k_normal={k}")
+    mesh = build_mesh(m)
+    render_all(m, tmp_path, mesh=mesh, names=["calculix"])
+    blocks = keyword_blocks((tmp_path / f"{m.name}_ccx_f2f.inp").read_text())
+    faces = {o["NAME"]: d for key, o, d in blocks if key == "SURFACE"}
+    slope = {}
+    for n, (key, o, d) in enumerate(blocks):
+        if key == "SURFACE INTERACTION":
+            slope[o["NAME"]] = float(blocks[n + 1][2][0].split(",")[0])
+    pairs = [(o["INTERACTION"], d[0].split(",")) for key, o, d in blocks if key == "CONTACT PAIR"]
+    assert len(pairs) > 1 and len({mst.strip() for _, (_, mst) in pairs}) == len(pairs)
+    row = {int(e): i for i, e in enumerate(elem_ids(mesh, np.arange(mesh.hexes.shape[0])))}
+    types = [element_type(n) for n, c in mesh.blocks for _ in range(c.shape[0])]
+    total, seen = 0.0, 0
+    for inter, (slave, _) in pairs:
+        for line in faces[slave.strip()]:
+            e, s = line.split(",")
+            cell = row[int(e)]
+            local = list(types[cell].faces[int(s.strip()[1:]) - 1])
+            conn = mesh.hexes[cell, local]
+            ftype = types[cell].face_types[int(s.strip()[1:]) - 1]
+            total += slope[inter] * face_shares(ftype, mesh.nodes[conn][None]).sum()
+            seen += 1
+    assert seen == sum(c.shape[0] for _, c in mesh.table_faces)
+    assert total == pytest.approx(k * mesh.table.nodes.size, rel=2e-6)   # faces within 1e-6 share a slope
