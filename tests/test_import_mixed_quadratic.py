@@ -16,6 +16,7 @@ distributing one the decks' consistent top shares and the reference's HRZ areas 
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -99,7 +100,8 @@ def test_ccx_against_the_reference_in_full_contact_and_past_liftoff(solved, meth
     differ by 0.27 % through the wall already under N alone (hex20 / tet10: <= 0.0006 %); largest at the tri6
     faces' mid-side nodes on the inner and outer edge (3 % of their force). Further past liftoff the face-to-face
     pair parts at the contact edge on either mesh: 2.61 % mixed, 2.60 % all C3D20 at lambda 0.8 (lift / R 4e-4;
-    mortar 1.88 % mixed, 0.014 % all C3D20)."""
+    mortar 1.88 % mixed, 0.014 % all C3D20). The same file with its C3D20 renamed C3D20R (not run here): mortar
+    0.89 / 1.23 / 1.67 %, face-to-face 0.014 / 0.088 / 1.60 %."""
     states = _states(solved, method)
     small = [s for s in states if s[2] <= SMALL_STRAIN]
     assert any(s[3] for s in small) and any(not s[3] for s in small), [(s[0], s[2], s[3]) for s in states]
@@ -184,15 +186,17 @@ def tet_files(tmp_path_factory):
     return gmsh_mixed(tmp_path_factory.mktemp("tet_wedge"), order=2, n_theta=48, n_z=3, n_r=1, tet_layers=2)
 
 
-@pytest.mark.parametrize("which", ["hex_wedge", "tet_wedge"])
+@pytest.mark.parametrize("which", ["hex_wedge", "hex20r_wedge", "tet_wedge"])
 def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, which):
-    """C3D20 + C3D15 and C3D10 + C3D15 (a wedge layer at the base under tetrahedra): the CalculiX mortar and
+    """C3D20 + C3D15, C3D20R + C3D15 (Gmsh's file with its C3D20 renamed) and C3D10 + C3D15 (a wedge layer at the base
+    under tetrahedra): the CalculiX mortar and
     face-to-face decks, the Abaqus decks and the Simcenter surface-contact deck are written; the node-based ones
     (Nastran and MYSTRAN CGAP) are left out with one line that says why; with the radial stop the face-weighted ones
     are too.
     pyNastran reads the surface deck back: the skirt's cells with their grid counts (20 / 15 / 10), every mid-side
     grid at the middle of its edge in Nastran's order (within 5 % of the edge), the table layer one CHEXA 20 under
-    each quad8 face and one CPENTA 15 under each tri6 face; the Abaqus deck carries both types cell by cell."""
+    each quad8 face and one CPENTA 15 under each tri6 face; the Abaqus and CalculiX decks carry both types cell by
+    cell."""
     from pyNastran.bdf.bdf import read_bdf
 
     from deckbridge.deck_elements import element_problem
@@ -200,13 +204,18 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
     from deckbridge.mesh import build_mesh
     from deckbridge.numbering.skirt import mesh_node_ids
     from deckbridge.render import render_all
-    f = files if which == "hex_wedge" else tet_files
+    f = tet_files if which == "tet_wedge" else files
+    if which == "hex20r_wedge":
+        reduced = tmp_path / "reduced.inp"
+        reduced.write_text(Path(files["inp"]).read_text().replace("type=C3D20,", "type=C3D20R,"))
+        f = {**files, "inp": str(reduced)}
     m = _model(f)
     mesh = build_mesh(m)
-    names = {"hex_wedge": ("C3D20", "C3D15"), "tet_wedge": ("C3D15", "C3D10")}[which]
+    names = {"hex_wedge": ("C3D20", "C3D15"), "hex20r_wedge": ("C3D20R", "C3D15"),
+             "tet_wedge": ("C3D15", "C3D10")}[which]
     assert tuple(n.upper() for n, _ in mesh.blocks) == names
     notes = []
-    paths = render_all(m, tmp_path, mesh=mesh, on_unsupported=notes.append)
+    paths = render_all(m, tmp_path / "decks", mesh=mesh, on_unsupported=notes.append)
     assert {p.name for p in paths} >= {f"{m.name}_{d}" for d in ("ccx_lagrange.inp", "ccx_f2f.inp", "lagrange.inp",
                                                                   "surface.bdf")}
     assert sorted(n.dialect for n in notes) == ["mystran", "nastran"]
@@ -217,10 +226,11 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
         why = element_problem(dialect, stop, build_mesh(stop))
         assert "radial stop" in why and "\n" not in why, why
     cells = {n.upper(): c for n, c in mesh.blocks}
-    raw = read_inp(tmp_path / f"{m.name}_lagrange.inp")
-    for t, c in cells.items():
-        assert {tuple(x) for x in raw.elements[t][1]} == {tuple(x) for x in mesh_node_ids(mesh, c)}, t
-    bdf = read_bdf(str(tmp_path / f"{m.name}_surface.bdf"), xref=False, debug=None)
+    for deck in ("lagrange", "ccx_lagrange", "ccx_f2f"):
+        raw = read_inp(tmp_path / "decks" / f"{m.name}_{deck}.inp")
+        for t, c in cells.items():
+            assert {tuple(x) for x in raw.elements[t][1]} == {tuple(x) for x in mesh_node_ids(mesh, c)}, (deck, t)
+    bdf = read_bdf(str(tmp_path / "decks" / f"{m.name}_surface.bdf"), xref=False, debug=None)
     xyz = {g: np.array(n.xyz) for g, n in bdf.nodes.items()}
     count = {}
     for e in bdf.elements.values():
@@ -232,7 +242,7 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
         for (a, b), mid in zip(NASTRAN_EDGES[e.type], g[k:]):
             assert np.linalg.norm(mid - (g[a - 1] + g[b - 1]) / 2) <= 0.05 * np.linalg.norm(g[a - 1] - g[b - 1]), e
     faces = {ft.name: c.shape[0] for ft, c in mesh.table_faces}
-    card = {"C3D20": ("CHEXA", 20), "C3D15": ("CPENTA", 15), "C3D10": ("CTETRA", 10)}
+    card = {"C3D20": ("CHEXA", 20), "C3D20R": ("CHEXA", 20), "C3D15": ("CPENTA", 15), "C3D10": ("CTETRA", 10)}
     want = {card[t]: c.shape[0] for t, c in cells.items()}
     want[("CHEXA", 20)] = want.get(("CHEXA", 20), 0) + faces.get("quad8", 0)
     want[("CPENTA", 15)] = want.get(("CPENTA", 15), 0) + faces.get("tri6", 0)
