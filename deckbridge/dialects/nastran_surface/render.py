@@ -45,6 +45,7 @@ from reference_solver.elements import element_type
 from ...errors import DeckbridgeError
 from ...importers.node_order import NASTRAN_TO_CCX
 from ...mesh import SkirtMesh
+from ...mesh_data import element_key
 from ...model import Model
 from ...numbering.nastran import clean_xyz, ground_distance, numbering
 from ...numbering.skirt import elem_ids, max_elem_id, max_node_id, mesh_node_ids
@@ -352,7 +353,7 @@ def deck_text(model: Model, mesh: SkirtMesh) -> str:
         friction=f"{model.contact.friction:g}", tangential=nc.tangential(model), spc_sid=nc.SPC_SID,
         bcset=BCSET_ID, load_step1=nc.LOAD_STEP1, load_step2=nc.LOAD_LINEAR, cid_cyl=nc.CID_CYL,
         n_grids=mesh.n_nodes, n_hexa=mesh.hexes.shape[0], load_introduction=model.load_introduction,
-        quadratic=getattr(mesh, "quadratic_faces", False), element=model.mesh.element,
+        quadratic=getattr(mesh, "quadratic_faces", False), element=" = ".join(element_key(model, mesh)),
         skirt_cards=" + ".join(SKIRT_CARDS.get(t, "") for t in getattr(mesh, "element", "").split("+")),
         layer_cell=("CHEXA" if not getattr(mesh, "quadratic_faces", False) else
                     " or ".join(LAYER_CARDS.get(n, "CHEXA").split()[0] for n in facts["layer_faces"])),
