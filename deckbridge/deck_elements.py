@@ -21,7 +21,8 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
 - mixed meshes (one block per type, ``mesh.blocks``): first order (C3D8I + C3D6) in :data:`MIXED_DIALECTS`
   (one ``*ELEMENT`` per type, CHEXA + CPENTA); second order (C3D20/C3D20R + C3D15, C3D10 + C3D15) in
   :data:`MIXED_QUADRATIC_DIALECTS` on each cell's own faces (quad8 and tri6 slave faces: :func:`cell_types`),
-  the node-based ones refused as above; either without the radial stop (one line).
+  the node-based ones refused as above; either without the radial stop (one line; CalculiX and Abaqus refuse it on
+  any 8-/6-node face, as above).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
 """
 
@@ -55,9 +56,9 @@ def element_problem(dialect: str, model, mesh) -> str | None:
         return (None if dialect in MIXED_DIALECTS and mesh.stop is None else
                 f"{key}: this dialect's decks are not written for a mixed mesh yet (first order without the radial "
                 f"stop: {', '.join(MIXED_DIALECTS)})")
-    if getattr(mesh, "blocks", ()) and dialect in MIXED_QUADRATIC_DIALECTS and mesh.stop is not None:
-        return (f"{key}: the radial stop is not written for a second-order mixed mesh yet: set contact.stop.side: "
-                f"none for the {', '.join(MIXED_QUADRATIC_DIALECTS)} decks")
+    if getattr(mesh, "blocks", ()) and dialect == "nastran_surface" and mesh.stop is not None:
+        return (f"{key}: the surface-contact deck's radial stop is not written for a mixed mesh yet: set "
+                "contact.stop.side: none for it")
     if quad:
         if dialect == "calculix":
             if mesh.stop is not None:

@@ -200,7 +200,7 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
     cell."""
     from pyNastran.bdf.bdf import read_bdf
 
-    from deckbridge.deck_elements import element_problem
+    from deckbridge.deck_elements import MIXED_QUADRATIC_DIALECTS, element_problem
     from deckbridge.importers.inp_file import read_inp
     from deckbridge.mesh import build_mesh
     from deckbridge.numbering.skirt import mesh_node_ids
@@ -223,7 +223,8 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
     for n in notes:
         assert "\n" not in str(n) and f"({' + '.join(names)})" in str(n) and "node-based" in str(n), str(n)
     stop = _model(f, "contact.stop.side=inner")
-    for dialect in ("calculix", "abaqus", "nastran_surface"):
+    assert MIXED_QUADRATIC_DIALECTS == ("calculix", "abaqus", "nastran_surface")
+    for dialect in MIXED_QUADRATIC_DIALECTS:
         why = element_problem(dialect, stop, build_mesh(stop))
         assert "radial stop" in why and "\n" not in why, why
     cells = {n.upper(): c for n, c in mesh.blocks}
