@@ -21,8 +21,9 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
 - mixed meshes (one block per type, ``mesh.blocks``): first order (C3D8I + C3D6) in :data:`MIXED_DIALECTS`
   (one ``*ELEMENT`` per type, CHEXA + CPENTA); second order (C3D20/C3D20R + C3D15, C3D10 + C3D15) in
   :data:`MIXED_QUADRATIC_DIALECTS` on each cell's own faces (quad8 and tri6 slave faces: :func:`cell_types`),
-  the node-based ones refused as above; either without the radial stop (one line; CalculiX and Abaqus refuse it on
-  any 8-/6-node face, as above).
+  the node-based ones refused as above; first order without the radial stop, second order with it in the
+  Simcenter deck only (its wall faces: quad8 of either cell type; CalculiX and Abaqus refuse it on any 8-/6-node
+  face, as above).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
 """
 
@@ -56,9 +57,6 @@ def element_problem(dialect: str, model, mesh) -> str | None:
         return (None if dialect in MIXED_DIALECTS and mesh.stop is None else
                 f"{key}: this dialect's decks are not written for a mixed mesh yet (first order without the radial "
                 f"stop: {', '.join(MIXED_DIALECTS)})")
-    if getattr(mesh, "blocks", ()) and dialect == "nastran_surface" and mesh.stop is not None:
-        return (f"{key}: the surface-contact deck's radial stop is not written for a mixed mesh yet: set "
-                "contact.stop.side: none for it")
     if quad:
         if dialect == "calculix":
             if mesh.stop is not None:
@@ -73,7 +71,7 @@ def element_problem(dialect: str, model, mesh) -> str | None:
                         "contact.stop.side: none for the Abaqus surface-to-surface deck")
             return None if _quadratic_types(el) else f"{key}: not written yet"
         if dialect == "nastran_surface":       # BSURFS faces, CHEXA/CPENTA/CTETRA with mid-side grids
-            if mesh.stop is not None and el == "c3d10":
+            if mesh.stop is not None and not _stop_wall_faces_quadrilateral(mesh):   # tetrahedra on the stop
                 return (f"{key}: the surface-contact deck's radial stop on a tetrahedral skirt's wall faces is not "
                         "written yet: set contact.stop.side: none for it, or use the calculix dialect (mortar deck)")
             return None if _quadratic_types(el) else f"{key}: not written yet"
@@ -86,6 +84,17 @@ def element_problem(dialect: str, model, mesh) -> str | None:
     if el == "c3d8" and dialect in ("calculix", "abaqus"):
         return None
     return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
+
+
+def _stop_wall_faces_quadrilateral(mesh) -> bool:
+    """True when every first-row cell on the stop side (``mesh.stop_elems``) has 8-node faces (a C3D20 / C3D15 wall
+    face for the surface-contact deck's stop layer); a tetrahedral skirt, or tetrahedra on the stop of a mixed one,
+    has none."""
+    elems = getattr(mesh, "stop_elems", None)
+    if elems is None or not len(elems):
+        return "c3d10" not in str(getattr(mesh, "element", "")).split("+")
+    types = cell_types(mesh)
+    return all(any(len(f) == 8 for f in types[int(e)].faces) for e in elems)
 
 
 def _quadratic_types(el: str) -> bool:

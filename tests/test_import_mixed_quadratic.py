@@ -192,8 +192,8 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
     """C3D20 + C3D15, C3D20R + C3D15 (Gmsh's file with its C3D20 renamed) and C3D10 + C3D15 (a wedge layer at the base
     under tetrahedra): the CalculiX mortar and
     face-to-face decks, the Abaqus decks and the Simcenter surface-contact deck are written; the node-based ones
-    (Nastran and MYSTRAN CGAP) are left out with one line that says why; with the radial stop the face-weighted ones
-    are too.
+    (Nastran and MYSTRAN CGAP) are left out with one line that says why; with the radial stop the CalculiX and Abaqus
+    ones are too (node-based there), the Simcenter deck adds its stop layer.
     pyNastran reads the surface deck back: the skirt's cells with their grid counts (20 / 15 / 10), every mid-side
     grid at the middle of its edge in Nastran's order (within 5 % of the edge), the table layer one CHEXA 20 under
     each quad8 face and one CPENTA 15 under each tri6 face; the Abaqus and CalculiX decks carry both types cell by
@@ -223,9 +223,10 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
     for n in notes:
         assert "\n" not in str(n) and f"({' + '.join(names)})" in str(n) and "node-based" in str(n), str(n)
     stop = _model(f, "contact.stop.side=inner")
+    stop_mesh = build_mesh(stop)
     assert MIXED_QUADRATIC_DIALECTS == ("calculix", "abaqus", "nastran_surface")
-    for dialect in MIXED_QUADRATIC_DIALECTS:
-        why = element_problem(dialect, stop, build_mesh(stop))
+    for dialect in ("calculix", "abaqus"):
+        why = element_problem(dialect, stop, stop_mesh)
         assert "radial stop" in why and "\n" not in why, why
     cells = {n.upper(): c for n, c in mesh.blocks}
     for deck in ("lagrange", "ccx_lagrange", "ccx_f2f"):
@@ -250,6 +251,33 @@ def test_every_dialect_on_a_second_order_mixed_mesh(files, tet_files, tmp_path, 
     want[("CPENTA", 15)] = want.get(("CPENTA", 15), 0) + faces.get("tri6", 0)
     assert count == {k: v for k, v in want.items() if v}
     assert sum(len(b.eids) for b in bdf.bsurfs.values()) == 2 * sum(faces.values())    # source and target faces
+    _stop_layer_on_the_inner_circle(stop, stop_mesh, tmp_path / "stop", count)
+
+
+def _stop_layer_on_the_inner_circle(model, mesh, folder, without_stop: dict) -> None:
+    """The Simcenter deck with the inner radial stop: one CHEXA 20 under each first-row wall face on the inner circle
+    (quad8 faces of a C3D20 or of a C3D15 of the base layer), as many as the base's edges on that circle (its corner
+    nodes there), every one of their grids inside the wall."""
+    from pyNastran.bdf.bdf import read_bdf
+
+    from deckbridge.deck_elements import element_problem
+    from deckbridge.render import render_all
+    assert element_problem("nastran_surface", model, mesh) is None
+    render_all(model, folder, mesh=mesh, names=["nastran_surface"])
+    bdf = read_bdf(str(folder / f"{model.name}_surface.bdf"), xref=False, debug=None)
+    count = {}
+    for e in bdf.elements.values():
+        if e.type in NASTRAN_EDGES:
+            count[e.type, len(e.node_ids)] = count.get((e.type, len(e.node_ids)), 0) + 1
+    extra = {k: v - without_stop.get(k, 0) for k, v in count.items() if v != without_stop.get(k, 0)}
+    r = np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])
+    r_in = r[mesh.table.nodes].min()
+    corners = np.unique(np.concatenate([c[:, :f.n_corners].ravel() for f, c in mesh.table_faces]))
+    n_edges = int(np.sum(np.abs(r[corners] - r_in) <= 1e-6 * r_in))
+    assert extra == {("CHEXA", 20): n_edges} and n_edges >= 48, (extra, n_edges)
+    layer = sorted((e for e in bdf.elements.values() if e.type == "CHEXA"), key=lambda e: e.eid)[-n_edges:]  # last
+    radii = [np.hypot(*np.array(bdf.nodes[g].xyz)[:2]) for e in layer for g in e.node_ids]
+    assert len(layer) == n_edges and max(radii) <= r_in * (1 + 1e-9)
 
 
 def test_face_to_face_slopes_on_quad8_and_tri6_faces_add_up_to_the_nodes_k(files, tmp_path):

@@ -40,8 +40,7 @@ from pathlib import Path
 import numpy as np
 from pyNastran.bdf.field_writer_8 import print_card_8
 
-from reference_solver.elements import element_type
-
+from ...deck_elements import cell_types
 from ...errors import DeckbridgeError
 from ...importers.node_order import NASTRAN_TO_CCX
 from ...mesh import SkirtMesh
@@ -183,7 +182,7 @@ def _reverse(face: np.ndarray, n_corners: int) -> np.ndarray:
 def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
     """For each element, its one face whose every node is a slave (the table faces of a quadratic skirt), in the
     element's face order (corners cyclic, then mid-sides); a list (a mixed mesh's faces: 8 and 6 nodes)."""
-    types = [element_type(n) for n, c in mesh.cell_blocks for _ in range(c.shape[0])]   # mixed: per cell
+    types = cell_types(mesh)                               # a mixed mesh: each cell's own faces
     slave = np.zeros(mesh.n_nodes, bool)
     slave[slaves] = True
     out = []
@@ -197,14 +196,14 @@ def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> 
 
 def _quadratic_wall_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
     """For each element, its one 8-node face with a horizontal normal (from its corners) holding two or more slave
-    nodes: the stop-side wall face of a first-row 20-node hexahedron or 15-node wedge."""
-    et = element_type(mesh.element)
+    nodes: the stop-side wall face of a first-row 20-node hexahedron or 15-node wedge (a mixed mesh: either)."""
+    types = cell_types(mesh)
     slave = np.zeros(mesh.n_nodes, bool)
     slave[slaves] = True
     out = []
     for e in elems:
         hit = []
-        for f in et.faces:
+        for f in types[e].faces:
             q = mesh.hexes[e, list(f)]
             if len(q) != 8:
                 continue
