@@ -15,7 +15,8 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
   slave faces), also only without the radial stop (its slaves are base nodes);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
 - the Simcenter surface-contact deck (nastran_surface) writes CHEXA (20 grids) / CTETRA (10) / CPENTA (15) with
-  their mid-side grids and BSURFS faces (the radial stop on hex20 / hex20r / wedge15 only); the CGAP deck's
+  their mid-side grids and BSURFS faces (the radial stop where the stop-side cells have 8-node wall faces: hex20,
+  hex20r, wedge15 and mixed meshes of them, not on tetrahedra); the CGAP deck's
   refusal names it;
 - tet4: not written yet (one line saying so);
 - mixed meshes (one block per type, ``mesh.blocks``): first order (C3D8I + C3D6) in :data:`MIXED_DIALECTS`
@@ -40,8 +41,8 @@ CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
 NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps"}
 MIXED_DIALECTS = ("calculix", "abaqus", "nastran")   # decks written for a first-order mixed mesh (C3D8I + C3D6)
-# decks written for a second-order mixed mesh (C3D20/C3D20R + C3D15, C3D10 + C3D15), without the radial stop: the
-# face-weighted ones (CalculiX mortar and face-to-face, Abaqus surface to surface, Simcenter surface contact)
+# decks written for a second-order mixed mesh (C3D20/C3D20R + C3D15, C3D10 + C3D15): the face-weighted ones
+# (CalculiX mortar and face-to-face, Abaqus surface to surface: without the radial stop; Simcenter surface contact)
 MIXED_QUADRATIC_DIALECTS = ("calculix", "abaqus", "nastran_surface")
 QUADRATIC_ELEMENTS = ("c3d20", "c3d20r", "c3d10", "c3d15")
 

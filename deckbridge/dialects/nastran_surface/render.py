@@ -69,10 +69,10 @@ class Layer:
 
     ``source``: (element index of the skirt, the face's skirt node indices: 4, or 8 / 6 on quadratic faces,
     corners first) per face; ``target``: (layer element index, the layer node indices of the face it sees).
-    ``hexes``: the layer cells (8-node CHEXA; on quadratic faces 20-node CHEXA or 15-node CPENTA in CalculiX node
-    order, :func:`nastran_order` writes them). ``xyz`` [m]."""
+    ``hexes``: the layer cells (8-node CHEXA; on quadratic faces 20-node CHEXA or 15-node CPENTA, a mixed mesh both,
+    in CalculiX node order, :func:`nastran_order` writes them). ``xyz`` [m]."""
     xyz: np.ndarray
-    hexes: np.ndarray
+    hexes: np.ndarray | list      # a list of cells on quadratic faces (20 and 15 grids on a mixed mesh)
     source: list[tuple[int, tuple[int, ...]]]
     target: list[tuple[int, tuple[int, ...]]]
 
@@ -179,7 +179,7 @@ def _reverse(face: np.ndarray, n_corners: int) -> np.ndarray:
     return np.array([c[0]] + c[1:][::-1] + m[::-1], np.int64)
 
 
-def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
+def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> list[np.ndarray]:
     """For each element, its one face whose every node is a slave (the table faces of a quadratic skirt), in the
     element's face order (corners cyclic, then mid-sides); a list (a mixed mesh's faces: 8 and 6 nodes)."""
     types = cell_types(mesh)                               # a mixed mesh: each cell's own faces
@@ -217,7 +217,7 @@ def _quadratic_wall_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray
     return np.array(out, np.int64)
 
 
-def _extrude_quadratic(mesh: SkirtMesh, elems: np.ndarray, faces: np.ndarray, offset: np.ndarray,
+def _extrude_quadratic(mesh: SkirtMesh, elems: np.ndarray, faces, offset: np.ndarray,
                        thick: np.ndarray) -> Layer:
     """A layer of quadratic cells under quadratic ``faces`` (each 8 nodes: quad8 -> 20-node CHEXA, or 6: tri6 ->
     15-node CPENTA; a mixed mesh has both): near grids at node + offset, far grids at node + offset + thick (every
