@@ -98,7 +98,7 @@ class Solution:
         return rows.sort_values(["theta_deg", "wall"]).reset_index(drop=True)
 
     def sigma_n_wall(self, load_factor: float | None = None) -> pd.DataFrame:
-        """Through-wall contact sigma_n per azimuth of one state [Pa]: -Sum force / Sum area of the table
+        """Through-wall contact sigma_n per azimuth of one state [Pa]: Sum sigma_n x area / Sum area of the table
         nodes at each theta (:func:`deckbridge.quantities.sigma_n_wall`); index ``theta_deg``, column
         ``sigma_n_pa`` (< 0 compression, 0 where the whole section is lifted)."""
         s = Q.sigma_n_wall(pick_state(self.table, load_factor))
