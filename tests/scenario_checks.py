@@ -10,7 +10,6 @@ job's printed warnings against the data they claim.
 from __future__ import annotations
 
 import re
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -21,13 +20,12 @@ from deckbridge.readers import read
 from deckbridge.importers.inp_mesh import read_inp_mesh
 from deckbridge.report.caveats import SMALL_STRAIN
 
+from ccx_f2f_resultant import ring_resultant
+from scenario_units import TOL_CCX_FILES, TOL_UNITS, paraview_si_equals_mm, si_equals_mm  # noqa: F401 (CHECKS, tests)
 from scenarios import Run, table_state
 
 TOL_FORCE = 1e-3        # equilibrium: relative to N (forces) and N R (moments)
 TOL_CCX = 0.02          # ccx against the reference: fraction of the peak |sigma_N| of the state
-TOL_UNITS = 1e-6        # SI against mm: fraction of the largest value of the quantity
-TOL_CCX_FILES = 1e-5    # the same, for what ccx wrote: 6 significant digits in the .frd (E12.5), 7 in the .dat
-                        # (E13.6); two files rounded apart differ by up to 1e-5 of a value (seen: 3.2e-6)
 
 
 def ran(run: Run) -> str:
@@ -165,9 +163,8 @@ def equilibrium(run: Run) -> str:
     """Global equilibrium of N and M (vertical contact forces of every source, every state) against the
     applied loads (moments of NLGEOM decks to the small-strain rotation bound); of T (horizontal) where the output carries every horizontal force: the reference's
     friction forces and stop forces every state (friction cases), the reference reactions at step ends
-    (spring cases: the springs' forces are not in contact.csv). The table's force_n is each solver's nodal force
-    (on 8-/6-node faces the consistent one: exact in sum and moment, quantities.DEFINITIONS); ccx face-to-face on
-    8-/6-node faces prints none (NaN): its clamped master ring's RF (face_rows.f2f_master_resultant)."""
+    (spring cases: the springs' forces are not in contact.csv). force_n: each solver's nodal force (exact in sum and
+    moment); ccx f2f on 8-/6-node faces prints none (NaN): its master ring's reaction (ccx_f2f_resultant)."""
     ran(run)
     n = abs(run.model.loads.N)
     scale_m = n * run.model.geometry.radius
@@ -177,7 +174,7 @@ def equilibrium(run: Run) -> str:
         # (P-delta), bounded in the small-strain range by SMALL_STRAIN['rotation_rad']
         tol_m = SMALL_STRAIN["rotation_rad"] if _nlgeom(run, label) else TOL_FORCE
         fric = read_friction(run.out / f"reference_{label.split('/')[1]}") if label.startswith("ref") else None
-        master = _master_resultant(run, label, df)
+        master = ring_resultant(run.out / "ccx", label, df, run.model.steps.lambda_max)
         for step, inc, lam, g in table_state(df):
             f_app, m_app = _applied(run, lam)
             tab = g[g.surface == "table"]
@@ -204,19 +201,6 @@ def equilibrium(run: Run) -> str:
             res = np.abs(np.asarray(force) + _applied(run, lam)[0]).max() / n
             assert res <= TOL_FORCE, f"reference/{method} step {step}: reaction + applied = {res:.3g} N"
     return f"worst residual {worst:.2g} of N"
-
-
-def _master_resultant(run: Run, label: str, df) -> dict | None:
-    """Per load factor (Fz, Mx, My) of a ccx face-to-face job whose table has no nodal forces (8-/6-node faces):
-    the reaction of its clamped master ring; None where the table's force_n is known."""
-    if not label.startswith("ccx/") or np.isfinite(df[df.surface == "table"].force_n.to_numpy(float)).any():
-        return None
-    from deckbridge.dialects.calculix.face_rows import f2f_master_resultant
-    deck = next((run.out / "ccx").glob(f"*_ccx_{label.split('/')[1]}.inp"))
-    lam_max = run.model.steps.lambda_max
-    got = {0.0 if t <= 1.0 + 1e-9 else lam_max * (t - 1.0): (F[2], M[0], M[1])
-           for t, (F, M) in f2f_master_resultant(deck).items()}          # ccx time -> load factor (two steps)
-    return {float(k): got[min(got, key=lambda x: abs(x - k))] for k in df.load_factor.unique()}
 
 
 def no_free_penetration(run: Run) -> str:
@@ -282,66 +266,6 @@ def ccx_vs_reference(run: Run) -> str:
             worst, n = max(worst, e), n + 1
         out.append(f"{ccx} {n} states, worst {worst:.2%}")
     return "; ".join(out)
-
-
-def _si_twin(run: Run):
-    """(SI model, its ccx penalty job: f2f on 8-/6-node faces) of a mm case, run once (tests/ccx_job.py)."""
-    from ccx_job import ccx_job
-    si = run.model.with_overrides({"units": "SI"})
-    if run.si_twin is None:
-        run.si_twin = ccx_job(si, Path(tempfile.mkdtemp(prefix="si-", dir=run.out.parent)), run.penalty_deck)
-    return si, run.si_twin
-
-
-def paraview_si_equals_mm(run: Run) -> str:
-    """The ccx ParaView series (deckbridge.dialects.calculix.paraview) of the mm case's penalty job equals that of its SI
-    twin: every point and cell array of every VTU, and the points, to 1e-6 of the array's largest value."""
-    import meshio
-
-    from deckbridge.dialects.calculix.paraview import write_ccx_series
-    ran(run)
-    if run.model.units != "mm":
-        return "skipped: SI case"
-    si, deck = _si_twin(run)
-    mm_job = run.out / "ccx" / deck.name
-    a = write_ccx_series(deck, si, Path(tempfile.mkdtemp(prefix="pv-si-", dir=run.out.parent)))[1:]
-    b = write_ccx_series(mm_job, run.model, Path(tempfile.mkdtemp(prefix="pv-mm-", dir=run.out.parent)))[1:]
-    assert len(a) == len(b) > 0, f"{len(a)} SI and {len(b)} mm VTU files"
-    n = 0
-    for fa, fb in zip(a, b):
-        ma, mb = meshio.read(fa), meshio.read(fb)
-        arrays = [("points", ma.points, mb.points)]
-        arrays += [(k, v, mb.point_data.get(k)) for k, v in ma.point_data.items()]
-        arrays += [(k, v[0], mb.cell_data[k][0] if k in mb.cell_data else None) for k, v in ma.cell_data.items()]
-        for key, va, vb in arrays:
-            assert vb is not None, f"{fb.name}: no {key}"
-            va, vb = np.asarray(va, float), np.asarray(vb, float)
-            d = np.abs(va - vb).max(initial=0.0) / max(np.abs(va).max(initial=0.0), 1e-300)
-            assert d <= TOL_CCX_FILES, f"{fb.name} {key}: SI vs mm differ by {d:.3g} of the largest"
-            n += 1
-    return f"{n} arrays equal"
-
-
-def si_equals_mm(run: Run) -> str:
-    """Every quantity equal between the SI and the mm run: the mm case's CalculiX penalty deck against the
-    same model's SI deck, both run by ccx (contact table, node coordinates of the decks)."""
-    ran(run)
-    if run.model.units != "mm":
-        return "skipped: SI case"
-    si, deck = _si_twin(run)
-    a = read(deck.with_suffix(".frd"), model=si)
-    b = run.tables[f"ccx/{run.penalty_deck}"]
-    j = a.merge(b, on=["step", "increment", "node", "surface"], suffixes=("_si", "_mm"))
-    assert len(j) == len(a) == len(b), "SI and mm tables differ in rows"
-    for col in ("sigma_n_pa", "gap_m", "force_n", "r", "theta_deg", "load_factor"):
-        a_, b_ = j[f"{col}_si"].to_numpy(float), j[f"{col}_mm"].to_numpy(float)
-        assert (np.isnan(a_) == np.isnan(b_)).all(), f"{col}: known in one unit system only"
-        d = np.nanmax(np.abs(a_ - b_), initial=0.0) / max(np.nanmax(np.abs(a_), initial=0.0), 1e-300)
-        assert d <= TOL_CCX_FILES, f"{col}: SI vs mm differ by {d:.3g} of the largest"
-    x_si = read_inp_mesh(deck).nodes
-    x_mm = read_inp_mesh(run.out / "ccx" / deck.name).nodes
-    assert np.abs(x_mm * 1e-3 - x_si).max() <= TOL_UNITS * np.abs(x_si).max(), "deck coordinates"
-    return f"{len(j)} rows equal"
 
 
 def _base_area(run: Run, n_theta: int) -> float:

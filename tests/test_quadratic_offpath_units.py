@@ -180,11 +180,6 @@ def test_units_mm_ccx_results_read_back_as_si(ccx_tables, deck):
     assert j.gap_m_si.max() > 1e-3 * j.gap_m_si.abs().max() > 0        # lifted: the gaps compared are not round-off
 
 
-def _lambda(t: float, lam_max: float) -> float:
-    """Load factor of a ccx total time t [s] (two steps of period 1: N, then N + lambda (T, M))."""
-    return 0.0 if t <= 1.0 + 1e-9 else lam_max * (t - 1.0)
-
-
 @pytest.mark.parametrize("deck", ["lagrange", "f2f"])
 def test_ccx_forces_add_up_to_n_and_carry_the_moment(ccx_tables, deck):
     """The exact contact resultant of ccx in mm (tet10 16 x 2 x 1, past liftoff at lambda 1) balances N and the
@@ -194,7 +189,7 @@ def test_ccx_forces_add_up_to_n_and_carry_the_moment(ccx_tables, deck):
     -0.69 % here, +0.49 % / +0.67 % on tet10 / hex20r 32 x 4 x 1 at lambda 1, My 4.4e-3 of N R); the resultant is
     the clamped master ring's RF (face_rows.f2f_master_resultant; measured N 2e-8, My 1.1e-5 at lambda 1). The
     mortar table's pressure x area about the nodes misses My by 1.9e-3 / 3.7e-3 at lambda 0.5 / 1."""
-    from deckbridge.dialects.calculix.face_rows import f2f_master_resultant
+    from ccx_f2f_resultant import f2f_resultants
     m, t, job = ccx_tables(deck, "mm")
     tab = t[t.surface == "table"]
     assert tab.load_factor.max() == pytest.approx(1.0)
@@ -202,7 +197,7 @@ def test_ccx_forces_add_up_to_n_and_carry_the_moment(ccx_tables, deck):
     lv = m.load_vectors()
     if deck == "f2f":
         assert tab.force_n.isna().all()
-        states = {_lambda(tt, m.steps.lambda_max): fm for tt, fm in f2f_master_resultant(job).items()}
+        states = f2f_resultants(job, m.steps.lambda_max)
     else:
         th = np.radians(tab.theta_deg.to_numpy(float))
         xyz = np.c_[tab.r * np.cos(th), tab.r * np.sin(th), tab.z]
