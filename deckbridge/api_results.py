@@ -91,7 +91,8 @@ class Solution:
 
     def sigma_n(self, load_factor: float | None = None, surface: str = "table") -> pd.DataFrame:
         """Contact sigma_n per node of one state [Pa] (< 0 compression), with the node's gap [m] (> 0 open),
-        status, normal force [N] (> 0 compressive) and tributary area [m^2]; sorted by theta, then wall ring
+        status, normal force on the node [N] (> 0 compressive; on 8-/6-node faces the consistent nodal force, NaN
+        where the solver prints none: :mod:`deckbridge.quantities`) and contact area [m^2]; sorted by theta, then wall ring
         (0 inner face .. n_r outer face). ``surface``: 'table' (the base) or 'stop' (the radial stop)."""
         rows = pick_state(self.table, load_factor)
         rows = rows[rows["surface"] == surface][NODE_COLUMNS]

@@ -8,7 +8,8 @@ a penalty model is kept as sigma_N > 0, never clipped); force_n > 0 compressive;
 A table row's area ``area_m2`` [m^2] and sigma_N per face type (issue 23; the area's one definition is
 :func:`deckbridge.face_areas.contact_areas`): 4-node faces (8-node solids) the tributary area, sigma_N =
 -force / area; 3-node faces the HRZ (= tributary) area, the same; 8- and 6-node faces (hex20, hex20r, tet10,
-wedge15, any source: reference face-weighted Lagrange and face penalty, ccx mortar) A_a = int Phi_a dA of the
+wedge15: reference face-weighted Lagrange and face penalty; ccx mortar and reference/mortar in ccx's dual basis,
+its shares d instead) A_a = int Phi_a dA of the
 non-negative hat multiplier basis Phi (``reference_solver.face_weights.hat_mortar``) and sigma_N = -lambda_a,
 the nodal value of the pressure field sum lambda_a Phi_a with lambda = D^-T r (D_ab = int Phi_a N_b dA, r the
 nodal contact forces [N]). A row's ``force_n`` [N] (> 0 compressive) is the normal force the solver applies to
