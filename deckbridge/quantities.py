@@ -80,7 +80,7 @@ DEFINITIONS = {q.key: q for q in [
              "the pressure's share of one row = -sigma_N x area (> 0 compressive): force_n on 4-/3-node faces; on "
              "8-/6-node faces its sum is the resultant where sigma_N is the projected pressure, its moment is not"),
     Quantity("sigma_n_node_pa", "Pa", "none (one node)",
-             "contact sigma_N of one slave node = -force / its area (inner, mid, outer); on 8-/6-node faces the "
+             "contact sigma_N of one slave node = -force_n / its area on 4-/3-node faces (inner, mid, outer); on 8-/6-node faces the "
              "pressure field's nodal value -lambda (hat basis)"),
     Quantity("peak_sigma_n_wall_pa", "Pa", "area", "most compressive through-wall sigma_N along the azimuth"),
     Quantity("peak_sigma_n_node_pa", "Pa", "none", "most compressive sigma_N of any single table node"),

@@ -1,7 +1,7 @@
 """Test helper: the exact contact resultant of a CalculiX face-to-face job on 8-/6-node faces per load factor.
 
 ccx prints no nodal force of those slave nodes (the table's force_n is NaN); the clamped master ring's reaction is
-the resultant (:func:`deckbridge.dialects.calculix.face_rows.f2f_master_resultant`, keyed by ccx time).
+the resultant (:func:`deckbridge.dialects.calculix.result_files.f2f_master_resultant`, keyed by ccx time).
 """
 
 from pathlib import Path
@@ -14,7 +14,7 @@ def load_factor(t: float, lam_max: float) -> float:
 
 def f2f_resultants(deck: Path, lam_max: float) -> dict:
     """{load factor: (force (3,) [N], moment (3,) [N m] about the origin)} of the table on the skirt, SI."""
-    from deckbridge.dialects.calculix.face_rows import f2f_master_resultant
+    from deckbridge.dialects.calculix.result_files import f2f_master_resultant
     return {load_factor(t, lam_max): fm for t, fm in f2f_master_resultant(deck).items()}
 
 

@@ -31,9 +31,9 @@ def test_dat_time_snaps_to_the_frd_time():
 @pytest.mark.parametrize("element, method", [("hex20r", "f2f"), ("hex8i", "penalty")])
 def test_three_increments_read_as_three_states(element, method, tmp_path):
     """Each step-2 state at lambda 0.2 / 0.4 / 0.6 once, its contact forces carrying N (1e-3) and every gap finite
-    (f2f on 8-node faces: the master ring's reaction, face_rows.f2f_master_resultant; the table has no nodal force)."""
+    (f2f on 8-node faces: the master ring's reaction, result_files.f2f_master_resultant; the table has no nodal force)."""
     from ccx_job import ccx_job
-    from deckbridge.dialects.calculix.face_rows import f2f_master_resultant
+    from deckbridge.dialects.calculix.result_files import f2f_master_resultant
     from deckbridge.readers import read
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -152,7 +152,7 @@ def test_ccx_f2f_matches_the_reference_face_penalty_with_an_explicit_k(element, 
     """k_normal 1e8 N/m, 48 x 3 x 1 skirt, no stop (ccx ~10 s one core; tet10: two slopes, 2 pairs): under N alone
     both penetrate N / Sum k (the ring's uniform pressure N / A over the slope Sum k / A; 1 %) and agree node by
     node within 0.5 % of it (measured 4e-4 hex20r, 1e-5 tet10); at lambda 0.6 ccx's forces carry N (1e-3:
-    measured 4e-4 hex20r, 3e-6 tet10; the master ring's reaction, face_rows.f2f_master_resultant: ccx prints no
+    measured 4e-4 hex20r, 3e-6 tet10; the master ring's reaction, result_files.f2f_master_resultant: ccx prints no
     slave nodal force there), the reference's (1e-9), the through-wall sigma_N within 0.5 % of the peak
     (measured 0.25 % hex20r, 0.28 % tet10; 0.69 % on 24 x 3 x 1, also with the model's own penalty: the mesh,
     not the slope) and the penetrations within 1 % of the largest (measured 0.03 %, 0.01 %). tet10 with both
@@ -161,7 +161,7 @@ def test_ccx_f2f_matches_the_reference_face_penalty_with_an_explicit_k(element, 
     with int N dA, reference with the modified basis) it still agreed within 0.23 % on hex20r, while the ccx
     penetration was 6.6 x the reference's (the deck's slope 2.05e10 against 1.27e11 Pa/m)."""
     from ccx_job import ccx_job
-    from deckbridge.dialects.calculix.face_rows import f2f_master_resultant
+    from deckbridge.dialects.calculix.result_files import f2f_master_resultant
     from deckbridge.readers import read
     from deckbridge.solve import solve_system
     from reference_solver.face_penalty import face_weighted

@@ -187,7 +187,7 @@ def test_ccx_forces_add_up_to_n_and_carry_the_moment(ccx_tables, deck):
     table's force_n (RF . n of the slave nodes; measured N 1.2e-8, moments <= 1.7e-8). Face-to-face: ccx prints no
     slave nodal force, the table's force_n is unknown (NaN: CPRESS x area is no nodal force, its sum missed N by
     -0.69 % here, +0.49 % / +0.67 % on tet10 / hex20r 32 x 4 x 1 at lambda 1, My 4.4e-3 of N R); the resultant is
-    the clamped master ring's RF (face_rows.f2f_master_resultant; measured N 2e-8, My 1.1e-5 at lambda 1). The
+    the clamped master ring's RF (result_files.f2f_master_resultant; measured N 2e-8, My 1.1e-5 at lambda 1). The
     mortar table's pressure x area about the nodes misses My by 1.9e-3 / 3.7e-3 at lambda 0.5 / 1."""
     from ccx_f2f_resultant import f2f_resultants
     m, t, job = ccx_tables(deck, "mm")

@@ -25,7 +25,7 @@ The rows' ``area_m2`` is int Phi_a dA of the multiplier basis (d for the mortar 
 row's nodal force as ccx applies it (:data:`deckbridge.quantities.DEFINITIONS`): r = RF . n of the mortar rows;
 NaN on the face-to-face rows and the mortar rows read without a model, where ccx prints a pressure only (CPRESS x
 area is no nodal force there: past liftoff its sum missed N by -0.69 / +0.49 / +0.67 %). The f2f deck's exact
-contact resultant is its clamped master ring's reaction (:func:`f2f_master_resultant`). The contact-law check
+contact resultant is its clamped master ring's reaction (:func:`.result_files.f2f_master_resultant`). The contact-law check
 (:mod:`deckbridge.readers._contact_law`) judges these rows by the pressure.
 """
 
@@ -98,40 +98,6 @@ def f2f_table_sigma(cpress: dict[int, float], node_ids: np.ndarray) -> np.ndarra
     compression. ccx prints a row only for nodes of faces in contact: a node without one carries no pressure
     (0, open). ``cpress``: node id -> CPRESS in SI."""
     return np.array([-float(cpress.get(int(n), 0.0)) for n in node_ids]) + 0.0
-
-
-MASTER_SETS = ("NMTOP", "NMCOPY")      # the f2f deck's clamped master nodes whose RF it prints (templates/calculix)
-
-
-def f2f_master_resultant(inp) -> dict[float, tuple[np.ndarray, np.ndarray]]:
-    """The exact contact resultant of a face-to-face job (``inp``: its deck; the ``.dat`` and ``.frd`` beside it)
-    on 8-/6-node faces, per printed ccx time [s] (the ``.frd``'s): (force (3,) [N], moment (3,) [N m] about the
-    origin), SI, the table's force on the skirt (z > 0 pushes it up: = Sum of the rows' nodal forces).
-
-    ccx prints no nodal contact force of the slave nodes; the master ring (NMTOP, NMCOPY) has every node fixed,
-    so its elements stay unstrained and the reactions RF at its nodes are the contact forces on the master,
-    consistent over its bilinear faces: their sum and moment are the contact resultant's to the printed digits.
-    Needs the deck's ``*NODE PRINT`` RF of both sets."""
-    from pathlib import Path
-    from ...units import scale
-    from .result_files import _dat_blocks, _frd_blocks, _on_frd_time, _read_meta
-    inp = Path(inp)
-    u = scale(_read_meta(inp)[0].get("units") or "SI")
-    coords, frd_blocks = _frd_blocks(inp.with_suffix(".frd"))
-    times = np.array(sorted({b["time"] for b in frd_blocks}))
-    out: dict[float, tuple[np.ndarray, np.ndarray]] = {}
-    for b in _dat_blocks(inp.with_suffix(".dat")):
-        if b["kind"] == "forces" and b["set"] in MASTER_SETS and b["values"]:
-            nodes = list(b["values"])
-            f = np.array([b["values"][n] for n in nodes]) / u.force
-            x = np.array([coords[n] for n in nodes]) / u.length
-            t = _on_frd_time(b["time"], times)
-            F, M = out.get(t, (np.zeros(3), np.zeros(3)))
-            out[t] = (F + f.sum(axis=0), M + np.cross(x, f).sum(axis=0))
-    if not out:
-        raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
-                              f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
-    return out
 
 
 def face_neighbours(mesh, node_ids: np.ndarray, table: np.ndarray) -> list[np.ndarray]:
