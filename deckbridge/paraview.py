@@ -9,7 +9,7 @@ says ``step S increment I load_factor L`` (increment j of step 2 is at lambda = 
 
 Point data (SI; 0 off the contact, never NaN there):
   ``displacement_m`` (n, 3); ``node_id``; ``<surface>_sigma_n_pa`` contact stress of the table / stop slave
-  (sigma_N = -force / area, < 0 compression); ``<surface>_gap_m`` (> 0 open); ``<surface>_status``
+  (sigma_N = -force / area on 4-/3-node faces, the projected pressure on 8-/6-node faces; < 0 compression); ``<surface>_gap_m`` (> 0 open); ``<surface>_status``
   (1 closed, 0 open, -1 not a slave of that surface); ``<surface>_area_m2`` tributary area;
   ``tangential_force_n``: circumferential tangential force on the table node along e_theta
   (counter-clockwise seen from +z, [N]): the spring force with ``tangential: springs``, the

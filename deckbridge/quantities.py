@@ -8,16 +8,22 @@ a penalty model is kept as sigma_N > 0, never clipped); force_n > 0 compressive;
 A table row's area ``area_m2`` [m^2] and sigma_N per face type (issue 23; the area's one definition is
 :func:`deckbridge.face_areas.contact_areas`): 4-node faces (8-node solids) the tributary area, sigma_N =
 -force / area; 3-node faces the HRZ (= tributary) area, the same; 8- and 6-node faces (hex20, hex20r, tet10,
-wedge15, any source: reference face-weighted Lagrange and face penalty, ccx mortar) A_a = int Phi_a dA of the
+wedge15: reference face-weighted Lagrange and face penalty; ccx mortar and reference/mortar in ccx's dual basis,
+its shares d instead) A_a = int Phi_a dA of the
 non-negative hat multiplier basis Phi (``reference_solver.face_weights.hat_mortar``) and sigma_N = -lambda_a,
 the nodal value of the pressure field sum lambda_a Phi_a with lambda = D^-T r (D_ab = int Phi_a N_b dA, r the
-nodal contact forces [N]); force_n = -sigma_N x area, so Sum force_n = Sum r (= N under N) on every face type
-(ccx face-to-face on quadratic faces: sigma_N = -CPRESS, its resultant within ccx's own projection). Node
-values are these nodal values; through-wall values -Sum force_n / Sum area of the azimuth's rows.
+nodal contact forces [N]). A row's ``force_n`` [N] (> 0 compressive) is the normal force the solver applies to
+its node (:func:`nodal_force`): -sigma_N x area on 4-/3-node faces, the consistent r = D^T lambda on 8-/6-node
+faces (the reference's face laws, ccx mortar's RF . n; a pressed 8-node face's corners pull), so both its sum
+(= N under N) and its first moment are the contact resultant's; NaN where the source prints no nodal force (ccx
+face-to-face on quadratic faces, whose sigma_N = -CPRESS is ccx's nodal pressure). The pressure's share
+-sigma_N x area (:func:`pressure_force`) sums to Sum r exactly where sigma_N is the projection, but its moment
+about the nodes is not the resultant's (1.1-1.6e-3 of N R on the hex20r cone). Node values are the nodal
+values sigma_N; through-wall values Sum sigma_N x area / Sum area of the azimuth's rows.
 
 Equilibrium check (what it compares): the corner-extrapolated base-wall sigma_zz (Gauss points of
 the bottom element row extrapolated to the base corners, averaged over the elements sharing a node,
-trapezoid mean through the wall) against the through-wall contact sigma_N = -Sum force / Sum area.
+trapezoid mean through the wall) against the through-wall contact sigma_N = Sum sigma_N x area / Sum area.
 Two numbers: ``szz_resultant_residual`` (Sum over every azimuth of the wall of mean sigma_zz x the
 base area the azimuth stands on, against the contact resultant Sum sigma_N x area, relative) is the
 equilibrium check and is warned above 1 %. The base area is the whole wall's (wall table column
@@ -64,14 +70,22 @@ class Quantity:
 
 DEFINITIONS = {q.key: q for q in [
     Quantity("sigma_n_wall_pa", "Pa", "area (row areas of the through-wall nodes: tributary; hat int Phi dA on 8-/6-node faces)",
-             "contact sigma_N through the wall at one azimuth = -Sum force / Sum area of its table nodes"),
+             "contact sigma_N through the wall at one azimuth = Sum sigma_N x area / Sum area of its table nodes"),
+    Quantity("force_n", "N", "none (one node)",
+             "normal contact force the solver applies to one slave node, > 0 compressive: -sigma_N x area on "
+             "4-/3-node faces, the consistent nodal force r = D^T lambda on 8-/6-node faces (corners of a pressed "
+             "8-node face < 0); its sum and first moment are the contact resultant's; NaN where not printed (ccx "
+             "face-to-face on 8-/6-node faces)"),
+    Quantity("pressure_force_n", "N", "area (the row's area)",
+             "the pressure's share of one row = -sigma_N x area (> 0 compressive): force_n on 4-/3-node faces; on "
+             "8-/6-node faces its sum is the resultant where sigma_N is the projected pressure, its moment is not"),
     Quantity("sigma_n_node_pa", "Pa", "none (one node)",
-             "contact sigma_N of one slave node = -force / its area (inner, mid, outer); on 8-/6-node faces the "
+             "contact sigma_N of one slave node = -force_n / its area on 4-/3-node faces (inner, mid, outer); on 8-/6-node faces the "
              "pressure field's nodal value -lambda (hat basis)"),
     Quantity("peak_sigma_n_wall_pa", "Pa", "area", "most compressive through-wall sigma_N along the azimuth"),
     Quantity("peak_sigma_n_node_pa", "Pa", "none", "most compressive sigma_N of any single table node"),
     Quantity("line_load_n_per_m", "N/m", "arc length at the mid-wall radius",
-             "line load q(theta) = -Sum force at the azimuth / its tributary arc length at the mid-wall radius"),
+             "line load q(theta) = Sum sigma_N x area at the azimuth / its tributary arc length at the mid-wall radius"),
     Quantity("szz_inner_pa", "Pa", "none", "wall sigma_zz at the base, inner face (Gauss -> corner, node average)"),
     Quantity("szz_outer_pa", "Pa", "none", "wall sigma_zz at the base, outer face (Gauss -> corner, node average)"),
     Quantity("szz_mean_pa", "Pa", "trapezoid over the node radii / thickness", "membrane: through-wall mean sigma_zz at the base"),
@@ -86,7 +100,7 @@ DEFINITIONS = {q.key: q for q in [
              "largest table-node opening / largest table-node radius; above 0.01 the answer is past the "
              "small-strain range (the headline comparison stays at or below it)"),
     Quantity("free_penetration_m", "m", "none (one node)",
-             "largest penetration -gap of a table node that carries no contact force (force_n <= 0): a penalty "
+             "largest penetration -gap of a table node that carries no contact pressure (pressure_force_n <= 0): a penalty "
              "node carries k x penetration and a Lagrange node has none, so a value here is an output that "
              "contradicts its own contact law (e.g. a node the solver's contact search missed); warned above "
              "10 % of the largest penetration of a loaded node and above 1e-6 of the largest node radius"),
@@ -107,13 +121,26 @@ def table_rows(rows: pd.DataFrame) -> pd.DataFrame:
     return rows[rows["surface"] == "table"] if "surface" in rows else rows
 
 
+def nodal_force(rows: pd.DataFrame) -> np.ndarray:
+    """``force_n`` [N] of the rows (> 0 compressive; :data:`DEFINITIONS`): the force the solver applies to the
+    node, exact in sum and first moment; NaN where the source does not print it."""
+    return rows["force_n"].to_numpy(float) if "force_n" in rows else np.full(len(rows), np.nan)
+
+
+def pressure_force(rows: pd.DataFrame) -> np.ndarray:
+    """-sigma_N x area [N] of the rows (> 0 compressive; ``pressure_force_n`` of :data:`DEFINITIONS`): the
+    weight of through-wall and line-load sums; NaN where the area is unknown."""
+    a = rows["area_m2"].to_numpy(float) if "area_m2" in rows else np.full(len(rows), np.nan)
+    return -rows["sigma_n_pa"].to_numpy(float) * a
+
+
 def sigma_n_wall(rows: pd.DataFrame) -> pd.Series:
     """Through-wall contact sigma_N [Pa] per azimuth (index theta_deg, sorted) of one state:
-    -Sum force / Sum area; the unweighted node mean only where a source has no areas (NaN)."""
+    Sum sigma_N x area / Sum area; the unweighted node mean only where a source has no areas (NaN)."""
     r = table_rows(rows)
     th = snap_deg(r["theta_deg"].to_numpy(float))
     a = r["area_m2"].to_numpy(float) if "area_m2" in r else np.full(len(r), np.nan)
-    f = r["force_n"].to_numpy(float) if "force_n" in r else np.full(len(r), np.nan)
+    f = pressure_force(r)
     g = pd.DataFrame({"t": th, "a": a, "f": f, "s": r["sigma_n_pa"].to_numpy(float),
                       "known": np.isfinite(a)}).groupby("t", sort=True)
     weighted = -g["f"].sum(min_count=1) / g["a"].sum(min_count=1)
@@ -146,10 +173,10 @@ def peak_node(rows: pd.DataFrame) -> tuple[float, float]:
 
 
 def line_load(rows: pd.DataFrame, r_mid: float) -> pd.Series:
-    """q(theta) [N/m] (< 0 compression) = -Sum force at the azimuth / (r_mid x its arc [rad])."""
+    """q(theta) [N/m] (< 0 compression) = Sum sigma_N x area at the azimuth / (r_mid x its arc [rad])."""
     r = table_rows(rows)
     th = snap_deg(r["theta_deg"].to_numpy(float))
-    f = pd.Series(r["force_n"].to_numpy(float), index=th).groupby(level=0).sum(min_count=1).sort_index()
+    f = pd.Series(pressure_force(r), index=th).groupby(level=0).sum(min_count=1).sort_index()
     arc = np.radians(arc_weights(f.index.to_numpy(float))) * float(r_mid)
     out = -f / arc
     out.index.name = "theta_deg"
@@ -199,7 +226,7 @@ def free_penetration(rows: pd.DataFrame) -> dict:
     """Force-free penetration of one state: {'free_penetration_m', 'free_penetration_nodes' (table node ids,
     sorted), 'free_penetration_warn'} (definition: ``free_penetration_m`` in :data:`DEFINITIONS`)."""
     r = table_rows(rows)
-    gap, force = r["gap_m"].to_numpy(float), r["force_n"].to_numpy(float)
+    gap, force = r["gap_m"].to_numpy(float), pressure_force(r)     # the pressure: an 8-node face's corners pull
     ok = np.isfinite(gap) & np.isfinite(force)
     pen = np.where(ok, -gap, 0.0)
     free = ok & (force <= 0.0) & (pen > 0.0)

@@ -242,11 +242,8 @@ def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFr
         "surface": til(p.contact_surface), "theta_deg": til(wrap_deg(rows.theta)),
         "z": til(rows.z), "r": til(rows.r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": sol.gap.ravel(),
         "status": np.where(sol.closed.ravel(), "closed", "open"),
-    }), til(p.contact_area))
-    df["force_n"] = sol.force.ravel()           # the solver's own (> 0 compressive); sigma_n = -force / area
-    if p.contact_weighting != "nodal":          # face-weighted: sigma_n is the projected pressure (face_law.py);
-        df["force_n"] = -df["sigma_n_pa"] * df["area_m2"]   # the table's force: that pressure on its hat area
-    return conform(df)
+    }), til(p.contact_area), sol.force.ravel())   # the solver's own nodal force (> 0 compressive): -sigma_n x area
+    return conform(df)                          # on nodal laws, D^T lambda on face-weighted ones (quantities.py)
 
 
 def _stats(a: np.ndarray) -> dict | None:

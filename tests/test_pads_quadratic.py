@@ -67,9 +67,10 @@ def _edge_cells(theta_deg, nt):
 
 
 def _through_wall(s):
-    """Through-wall sigma_N [Pa] per azimuth (-sum force / sum area, docs/elements.md), keyed by rounded theta."""
-    g = s.assign(th=s.theta_deg.round(6) % 360).groupby("th")
-    return -g.force_n.sum() / g.area_m2.sum()
+    """Through-wall sigma_N [Pa] per azimuth (sum sigma_N x area / sum area, deckbridge/quantities.py), keyed by
+    rounded theta."""
+    g = s.assign(th=s.theta_deg.round(6) % 360, sa=s.sigma_n_pa * s.area_m2).groupby("th")
+    return g.sa.sum() / g.area_m2.sum()
 
 
 @pytest.mark.parametrize("element", ["hex20", "tet10", "wedge15"])

@@ -19,10 +19,14 @@ these faces the ccx reader reports, as the reference solver does for its face-we
 - face-to-face deck (``*_ccx_f2f.inp``, master a wide C3D8 ring, no master node under each slave node):
   sigma_N = -CPRESS of the ``.frd`` CONTACT block (see :func:`f2f_table_sigma`).
 
-The table's force_n is then -sigma_N x the row's area (``area_m2`` = int Phi_a dA of the multiplier basis: d for
-the mortar rows, the hat areas :func:`deckbridge.face_areas.contact_areas` elsewhere), so Sum force_n = Sum r;
-the through-wall sigma_N (:func:`deckbridge.quantities.sigma_n_wall`) = -Sum force / Sum area per azimuth. The
-contact-law check (:mod:`deckbridge.readers._contact_law`) judges these rows by that pressure.
+The rows' ``area_m2`` is int Phi_a dA of the multiplier basis (d for the mortar rows, the hat areas
+:func:`deckbridge.face_areas.contact_areas` elsewhere), so Sum sigma_N x area = -Sum r; the through-wall sigma_N
+(:func:`deckbridge.quantities.sigma_n_wall`) = Sum sigma_N x area / Sum area per azimuth. The table's force_n is the
+row's nodal force as ccx applies it (:data:`deckbridge.quantities.DEFINITIONS`): r = RF . n of the mortar rows;
+NaN on the face-to-face rows and the mortar rows read without a model, where ccx prints a pressure only (CPRESS x
+area is no nodal force there: past liftoff its sum missed N by -0.69 / +0.49 / +0.67 %). The f2f deck's exact
+contact resultant is its clamped master ring's reaction (:func:`.result_files.f2f_master_resultant`). The contact-law check
+(:mod:`deckbridge.readers._contact_law`) judges these rows by the pressure.
 """
 
 from __future__ import annotations
