@@ -34,6 +34,7 @@ import scipy.sparse.linalg as spla
 
 from ...errors import DeckbridgeError
 from ...numbering.skirt import mesh_node_ids
+from ...quantities import projected_gap
 
 QUADRATIC_TYPES = ("C3D20", "C3D20R", "C3D10", "C3D15")     # ccx element types with 8- or 6-node faces
 MORTAR_BASIS = "dual"           # the multipliers the reader reports for a mortar job's table: ccx's own
@@ -70,6 +71,13 @@ class TableProjection:
         s = np.zeros(self.order.size)
         s[self.order] = sigma_rows
         return -(self.D.T @ s)[self.order]
+
+    def gaps(self, gap_rows: np.ndarray) -> np.ndarray:
+        """The rows' gaps [m] as ccx's mortar law constrains them, (D g) / d
+        (:func:`deckbridge.quantities.projected_gap`), from their nodal gaps ``gap_rows`` [m] (row order)."""
+        g = np.zeros(self.order.size)
+        g[self.order] = gap_rows
+        return projected_gap(self.D, g)[self.order]
 
     def slaves(self, sl):
         """The reader's slave rows ``sl`` (result_files.Slaves) with :attr:`areas` on the projected rows."""
