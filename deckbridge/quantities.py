@@ -46,6 +46,7 @@ import numpy as np
 import pandas as pd
 
 from .azimuth import arc_weights, periodic_interp, snap_deg
+from .methods import LAGRANGE
 
 CLAIM_QUANTITIES = ("sigma_n_wall_pa", "szz_inner_pa", "szz_outer_pa", "szz_mean_pa")   # judged by the paper's claims (studies/claims.py)
 
@@ -231,7 +232,7 @@ def law_gaps(problem, sol) -> np.ndarray:
     """``gap_m`` (states, rows) [m] of a reference solution ``sol`` on ``problem`` (reference_solver): the
     face-weighted Lagrange's :func:`projected_gap` on 8-/6-node faces (``contact_weighting`` 'face' or
     'face-dual'), the solver's nodal gaps elsewhere (nodal laws, penalty laws: they act on the nodal gap field)."""
-    if problem.contact_weighting == "nodal" or sol.method != "lagrange":
+    if problem.contact_weighting == "nodal" or sol.method != LAGRANGE:
         return sol.gap
     from reference_solver.face_law import weighting_matrix
     return projected_gap(weighting_matrix(problem), sol.gap)
