@@ -117,8 +117,10 @@ def section_forces(nodes: np.ndarray, cells: np.ndarray, s_axial_nodal: np.ndarr
     its corners), each node's term to the row of nearest azimuth (:func:`deckbridge.mesh_data.nearest_row_sums`).
     The rows' trapezoid mean x area (corners only) is not that integral on these cells: on the Gmsh C3D20
     skirt of the quadratic scenario matrix (16 x 4 x 1) past liftoff it missed the contact resultant by
-    2.72 % at lambda 0.8 and 18.8 % at 1 where this integral misses it by 1.09 % and 3.46 %. None where a
-    base-face node's value is not finite (a source that gives the corners only)."""
+    2.72 % at lambda 0.8 and 18.8 % at 1 where this integral misses it by 1.09 % and 3.46 %; the FE stress D B u
+    itself, integrated at the base faces' 3 x 3 points, misses it by the same 1.08 % on hex20 24 x 3 x 1 at 0.8
+    (a residual of the 27-point element's stress there, not of the recovery; C3D20R balances to 1e-9). None where
+    a base-face node's value is not finite (a source that gives the corners only)."""
     from reference_solver.elements import element_type
     from reference_solver.face_weights import face_shares, surface_faces
     from reference_solver.problem import ElementBlock
