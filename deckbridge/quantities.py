@@ -26,7 +26,9 @@ the bottom element row extrapolated to the base corners, averaged over the eleme
 trapezoid mean through the wall) against the through-wall contact sigma_N = Sum sigma_N x area / Sum area.
 Two numbers: ``szz_resultant_residual`` (Sum over every azimuth of the wall of mean sigma_zz x the
 base area the azimuth stands on, against the contact resultant Sum sigma_N x area, relative) is the
-equilibrium check and is warned above 1 %. The base area is the whole wall's (wall table column
+equilibrium check and is warned above 1 %; on cells with mid-side nodes (10-, 15-, 20-node), whose wall rows
+hold the corners only, the axial resultant is the wall table's ``axial_force_n`` summed (int sigma_zz dA with
+every base-face node, deckbridge.base_wall.section_forces). The base area is the whole wall's (wall table column
 ``area_m2``), not the contact area: on pads a pad-edge node's sigma_zz is the average of a loaded and
 an unloaded element, which the full area weights as the two half faces it stands for (weighted by
 the half contact area the check read 28-45 % off on 4 pads; tables without ``area_m2`` fall back to
@@ -50,6 +52,7 @@ import numpy as np
 import pandas as pd
 
 from .azimuth import arc_weights, periodic_interp, snap_deg
+from .methods import LAGRANGE
 
 CLAIM_QUANTITIES = ("sigma_n_wall_pa", "szz_inner_pa", "szz_outer_pa", "szz_mean_pa")   # judged by the paper's claims (studies/claims.py)
 
@@ -91,7 +94,9 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("szz_mean_pa", "Pa", "trapezoid over the node radii / thickness", "membrane: through-wall mean sigma_zz at the base"),
     Quantity("szz_bending_pa", "Pa", "none", "bending: (outer - inner) / 2 of sigma_zz at the base"),
     Quantity("szz_resultant_residual", "1", "base area per azimuth (the whole wall, pads or not)",
-             "|Sum mean sigma_zz x area - Sum sigma_N x area| / |Sum sigma_N x area| over the base (equilibrium check)"),
+             "|Sum mean sigma_zz x area - Sum sigma_N x area| / |Sum sigma_N x area| over the base (equilibrium check); "
+             "on 10-/15-/20-node cells Sum mean sigma_zz x area is int sigma_zz dA over every base-face node "
+             "(wall column axial_force_n)"),
     Quantity("szz_local_residual", "1", "none", "max over theta |mean sigma_zz - sigma_N wall| / max |sigma_N wall|"),
     Quantity("open_tension_ratio", "1", "none",
              "largest sigma_N > 0 of an open node / |peak compression| (penalty open-gap stiffness)"),
@@ -99,9 +104,17 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("lift_over_radius", "1", "none (one node)",
              "largest table-node opening / largest table-node radius; above 0.01 the answer is past the "
              "small-strain range (the headline comparison stays at or below it)"),
+    Quantity("gap_m", "m", "none (one row); on 8-/6-node faces of a Lagrange-type law the row's multiplier function",
+             "a table row's gap (> 0 open) as its contact law constrains it: nodal laws and penalty laws (node or "
+             "face-integrated) the node's clearance + n . u; the face-weighted Lagrange law (reference "
+             "lagrange and mortar on 8-/6-node faces, ccx mortar) the projected gap g~_a / int Phi_a dA = "
+             "(D g)_a / Sum_b D_ab (projected_gap), >= 0 where the law holds and 0 at a pressed row; its "
+             "nodal gap D^-1 g~ is not written (past liftoff it is < 0 at force-free rows beside the "
+             "contact edge: -1.7 um hex20r, -6.7 um tet10 at lambda 1 of the quadratic scenario matrix)"),
     Quantity("free_penetration_m", "m", "none (one node)",
-             "largest penetration -gap of a table node that carries no contact pressure (pressure_force_n <= 0): a penalty "
-             "node carries k x penetration and a Lagrange node has none, so a value here is an output that "
+             "largest penetration -gap_m (the law's gap) of a table node that carries no contact pressure "
+             "(pressure_force_n <= 0): a penalty node carries k x penetration and a Lagrange node has none, so a "
+             "value here is an output that "
              "contradicts its own contact law (e.g. a node the solver's contact search missed); warned above "
              "10 % of the largest penetration of a loaded node and above 1e-6 of the largest node radius"),
     Quantity("tau_wall_pa", "Pa", "area (tributary areas of the through-wall nodes)",
@@ -201,7 +214,10 @@ def equilibrium(wall_szz: pd.DataFrame, rows: pd.DataFrame) -> dict:
     w = w.reindex(sw.index).to_numpy(float)
     resultant = contact_resultant(rows)
     wall_area = wall_szz["area_m2"].to_numpy(float) if "area_m2" in wall_szz else None
-    if wall_area is not None and np.isfinite(wall_area).all():      # the whole base section
+    force = wall_szz["axial_force_n"].to_numpy(float) if "axial_force_n" in wall_szz else None
+    if force is not None and np.isfinite(force).all():               # cells with mid-side nodes: every base node
+        axial = float(np.sum(force))
+    elif wall_area is not None and np.isfinite(wall_area).all():    # the whole base section
         axial = float(np.sum(wall_szz["szz_mean_pa"].to_numpy(float) * wall_area))
     else:                                                            # older tables: contact areas
         axial = float(np.sum(szz.to_numpy() * w))
@@ -220,6 +236,36 @@ def open_tension(rows: pd.DataFrame) -> dict:
     top = max(top, 0.0)
     peak = abs(float(min(s.min(), 0.0))) or 1.0
     return {"max_open_sigma_n_pa": top, "open_tension_ratio": top / peak, "warn": top / peak > TENSION_WARN}
+
+
+def projected_gap(D, gap: np.ndarray) -> np.ndarray:
+    """The gap [m] a face-weighted Lagrange law constrains, per contact row (> 0 open; ``gap_m`` in
+    :data:`DEFINITIONS`): g~_a / int Phi_a dA = (D g)_a / Sum_b D_ab, with D_ab = int Phi_a N_b dA [m^2] the
+    rows' mortar matrix (``reference_solver.face_law.weighting_matrix``, the ccx mortar reader's
+    ``TableProjection.D``: hat or ccx's dual multiplier basis Phi) and ``gap`` the nodal gaps g [m]
+    (clearance + n . u), one row per contact row or (states, rows). The law keeps g~ = D g >= 0 and
+    lambda . g~ = 0 (reference_solver/face_law.py), so this is >= 0 at every row where it holds and 0 at a
+    pressed one; with the hat basis (Phi >= 0) a weighted mean of the gap field over the row's multiplier
+    function. A row of D with one entry (a row on no face: D = its area; 4-/3-node faces lumped) keeps its own
+    nodal gap exactly. Measured on the quadratic scenario matrix (tests/test_quadratic_offpath_matrix.py): closed
+    rows 0 to 5e-21 m (reference lagrange, mortar) and 1.7e-15 - 3.3e-8 m (ccx mortar in its dual basis, the
+    largest in mm), every open row > 0 (>= 1e-10 m)."""
+    import scipy.sparse as sp
+    D = sp.csr_matrix(D)
+    g = np.asarray(gap, float)
+    share = np.asarray(D.sum(axis=1)).ravel()
+    weighted = (D @ g.T).T / share
+    return np.where(np.diff(D.indptr) > 1, weighted, g)
+
+
+def law_gaps(problem, sol) -> np.ndarray:
+    """``gap_m`` (states, rows) [m] of a reference solution ``sol`` on ``problem`` (reference_solver): the
+    face-weighted Lagrange's :func:`projected_gap` on 8-/6-node faces (``contact_weighting`` 'face' or
+    'face-dual'), the solver's nodal gaps elsewhere (nodal laws, penalty laws: they act on the nodal gap field)."""
+    if problem.contact_weighting == "nodal" or sol.method != LAGRANGE:
+        return sol.gap
+    from reference_solver.face_law import weighting_matrix
+    return projected_gap(weighting_matrix(problem), sol.gap)
 
 
 def free_penetration(rows: pd.DataFrame) -> dict:

@@ -250,6 +250,9 @@ def run_case(case: Case, folder: Path, mortar_min_increment: float | None = None
     f2f = res["comparison"].source("reference/f2f")   # ccx/f2f's partner, in memory only (deckbridge/reference_f2f.py)
     if f2f is not None:
         run.tables["reference/f2f"], run.walls["reference/f2f"] = f2f.table, f2f.wall
+    mortar = res["comparison"].source("reference/mortar")   # ccx/mortar's partner (deckbridge/reference_dual.py)
+    if mortar is not None:
+        run.tables["reference/mortar"], run.walls["reference/mortar"] = mortar.table, mortar.wall
     return run
 
 

@@ -19,10 +19,6 @@ from scenarios import check_params, QUADRATIC_CASES, Case, run_case
 CASES = [Case(levels) for levels in QUADRATIC_CASES]
 
 KNOWN = [
-    (lambda v: v["top"] == "kinematic", ("no_free_penetration",),
-     "open: the face-weighted Lagrange law keeps weighted gaps >= 0, not nodal ones: past liftoff a row with no "
-     "force has a nodal gap of -1.7 um (hex20r, loaded rows 2.8 um) / -6.7 um (tet10, loaded 10 um) at lambda 1, "
-     "over the invariant's PENETRATION_WARN share of the loaded rows' penetration"),
     (lambda v: v["element"] == "hex20r", ("ccx_vs_reference",),
      "open: ccx mortar against the reference Lagrange on the hex20r cone (16 x 4 x 2, rigid top, 0.5 m tall "
      "cells) differs by 26.7 % of the peak through the wall under N alone (lambda 0); C3D20R on tall cells "
@@ -31,9 +27,6 @@ KNOWN = [
     (lambda v: v["mesh"] != "parametric", ("ccx_vs_reference",),
      "open: ccx mortar against the reference Lagrange on the Gmsh C3D20 import (16 x 4 x 1): 2.002 % of the "
      "peak through the wall at lambda 0.6 (tolerance 2 %; issue 23's mortar item, docs/mortar_stop.md)"),
-    (lambda v: v["mesh"] != "parametric", ("warnings_true",),
-     "open: the job warns 'base-wall sigma_zz equilibrium residual 2.72 %' at lambda 0.8 on the Gmsh C3D20 "
-     "import where the wall table's sigma_zz resultant balances N to 0.10 %"),
 ]
 
 

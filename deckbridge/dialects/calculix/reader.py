@@ -13,11 +13,9 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
   (pressure p = K x penetration per contact element, in contact-pair order, lifted nodes left out):
   sigma_n = -p A_ccx / A (force k_c x penetration over the model's area; 0 for a node without a row);
 - 8-/6-node faces (C3D20/C3D20R/C3D10/C3D15): table rows as :mod:`.face_rows` (mortar ccx's multipliers, f2f -CPRESS);
-- gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
-  ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
-  lifted one can carry pressure with a small positive nodal gap). status: closed where
-  sigma_n < -1e-6 max|sigma_n| of the increment (mortar's open nodes carry force noise of ~1e-4 Pa;
-  GAPUNI's open nodes the small tension f_inf / A).
+- gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP; COPEN: penetrations only),
+  on 8-/6-node mortar rows projected, (D g) / d (quantities.projected_gap). status: closed where sigma_n < -1e-6
+  max|sigma_n| of the increment (mortar's open nodes carry force noise ~1e-4 Pa; GAPUNI's the tension f_inf / A).
 
 Nodes map to azimuth/area/normal through the model's mesh when ``model`` is given (ids must be slave nodes
 of that model), else through the ``** deckbridge-slave`` lines the renderer writes into the ``.inp``.
@@ -226,7 +224,7 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
         sigmas[(step, t)], origins[(step, t)] = sigma, origin
         nodal[(step, t)] = np.where(np.isnan(force) & ~unknown, -sigma * sl.area, force)    # CPRESS x A: 4-node
     sl = sl if project is None else project.slaves(sl)          # their areas: the multipliers' shares d
-    return _frames(sl, method, lam, sigmas, disp, stem, origins, law_sigmas=own or None, near=near, forces=nodal)
+    return _frames(sl, method, lam, sigmas, disp, stem, origins, law_sigmas=own or None, near=near, forces=nodal, project=project)
 
 
 def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict, contact_gap: dict | None = None, mesh=None):
@@ -285,12 +283,12 @@ def _at(path: Path, line: int) -> str:
 
 def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path,
             origins: dict | None = None, law_gaps: dict | None = None, law_sigmas: dict | None = None,
-            near: list | None = None, forces: dict | None = None) -> pd.DataFrame:
+            near: list | None = None, forces: dict | None = None, project=None) -> pd.DataFrame:
     """The tidy table from sigma_n per (step, time) and the slave displacements; ``forces``: per (step, time) the
     rows' force_n (default -sigma_n x area); ``origins``: per (step, time) the file and line of each row's value
     (column ``origin``, dropped after the checks);
     ``law_gaps`` / ``law_sigmas``: the solver's own gap / pressure per row for the contact-law check; ``near``:
-    per row the rows of its table faces (quadratic faces: law_gap_m of pressed rows, face_rows.law_gaps)."""
+    per row the rows of its table faces (law_gap_m, face_rows.law_gaps); ``project``: gap_m (D g) / d of its rows."""
     frames, counters = [], {}
     for step, t in sorted(sigmas):
         sigma, d_t = sigmas[(step, t)], disp.get((step, t), {})
@@ -299,6 +297,8 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
             u = d_t.get(int(sl.node[i]))
             if u is not None:
                 gap[i] = sl.clearance[i] + float(u[:3] @ sl.normal[i])
+        if project is not None:         # quadratic mortar rows: the gap ccx's law constrains
+            gap[project.rows] = project.gaps(gap[project.rows])
         counters[step] = counters.get(step, 0) + 1
         law_gap = law_gaps[(step, t)] if law_gaps else (face_law_gaps(sigma, gap, near) if near else None)
         law_sigma = (law_sigmas or {}).get((step, t))
