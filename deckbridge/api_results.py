@@ -91,14 +91,15 @@ class Solution:
 
     def sigma_n(self, load_factor: float | None = None, surface: str = "table") -> pd.DataFrame:
         """Contact sigma_n per node of one state [Pa] (< 0 compression), with the node's gap [m] (> 0 open),
-        status, normal force [N] (> 0 compressive) and tributary area [m^2]; sorted by theta, then wall ring
+        status, normal force on the node [N] (> 0 compressive; on 8-/6-node faces the consistent nodal force, NaN
+        where the solver prints none: :mod:`deckbridge.quantities`) and contact area [m^2]; sorted by theta, then wall ring
         (0 inner face .. n_r outer face). ``surface``: 'table' (the base) or 'stop' (the radial stop)."""
         rows = pick_state(self.table, load_factor)
         rows = rows[rows["surface"] == surface][NODE_COLUMNS]
         return rows.sort_values(["theta_deg", "wall"]).reset_index(drop=True)
 
     def sigma_n_wall(self, load_factor: float | None = None) -> pd.DataFrame:
-        """Through-wall contact sigma_n per azimuth of one state [Pa]: -Sum force / Sum area of the table
+        """Through-wall contact sigma_n per azimuth of one state [Pa]: Sum sigma_n x area / Sum area of the table
         nodes at each theta (:func:`deckbridge.quantities.sigma_n_wall`); index ``theta_deg``, column
         ``sigma_n_pa`` (< 0 compression, 0 where the whole section is lifted)."""
         s = Q.sigma_n_wall(pick_state(self.table, load_factor))

@@ -15,9 +15,16 @@ and ``run`` leave the dialect out with that note), None when they can. Rules:
   slave faces), also only without the radial stop (its slaves are base nodes);
 - hex8 (C3D8): CalculiX and Abaqus (C3D8 cards); the Nastran family writes CHEXA as C3D8I-like (not yet);
 - the Simcenter surface-contact deck (nastran_surface) writes CHEXA (20 grids) / CTETRA (10) / CPENTA (15) with
-  their mid-side grids and BSURFS faces (the radial stop on hex20 / hex20r / wedge15 only); the CGAP deck's
+  their mid-side grids and BSURFS faces (the radial stop where the stop-side cells have 8-node wall faces: hex20,
+  hex20r, wedge15 and mixed meshes of them, not on tetrahedra); the CGAP deck's
   refusal names it;
-- tet4: not written yet (one line saying so).
+- tet4: not written yet (one line saying so);
+- mixed meshes (one block per type, ``mesh.blocks``): first order (C3D8I + C3D6) in :data:`MIXED_DIALECTS`
+  (one ``*ELEMENT`` per type, CHEXA + CPENTA); second order (C3D20/C3D20R + C3D15, C3D10 + C3D15) in
+  :data:`MIXED_QUADRATIC_DIALECTS` on each cell's own faces (quad8 and tri6 slave faces: :func:`cell_types`),
+  the node-based ones refused as above; first order without the radial stop, second order with it in the
+  Simcenter deck only (its wall faces: quad8 of either cell type; CalculiX and Abaqus refuse it on any 8-/6-node
+  face, as above).
 CalculiX element names: :data:`CCX_TYPE`; faces S1.. in the element's own face order (reference_solver).
 """
 
@@ -34,6 +41,10 @@ CCX_TYPE = {"c3d8i": "C3D8I", "c3d8": "C3D8", "c3d20": "C3D20", "c3d20r": "C3D20
 CCX_PER_LINE = 16          # entries per *ELEMENT data line before a continuation line (ccx and Abaqus)
 NODE_BASED = {"nastran": "CGAP gaps", "mystran": "CGAP gaps"}
 MIXED_DIALECTS = ("calculix", "abaqus", "nastran")   # decks written for a first-order mixed mesh (C3D8I + C3D6)
+# decks written for a second-order mixed mesh (C3D20/C3D20R + C3D15, C3D10 + C3D15): the face-weighted ones
+# (CalculiX mortar and face-to-face, Abaqus surface to surface: without the radial stop; Simcenter surface contact)
+MIXED_QUADRATIC_DIALECTS = ("calculix", "abaqus", "nastran_surface")
+QUADRATIC_ELEMENTS = ("c3d20", "c3d20r", "c3d10", "c3d15")
 
 
 def element_problem(dialect: str, model, mesh) -> str | None:
@@ -42,28 +53,29 @@ def element_problem(dialect: str, model, mesh) -> str | None:
     if el == "c3d8i":
         return None
     key = " = ".join(element_key(model, mesh))   # the imported file's types, not mesh.element's default
-    if getattr(mesh, "blocks", ()):              # a mixed imported mesh (issue 23): first order without the stop
-        return (None if dialect in MIXED_DIALECTS and not mesh.quadratic_faces and mesh.stop is None else
+    quad = bool(getattr(mesh, "quadratic_faces", False))
+    if getattr(mesh, "blocks", ()) and not quad:  # a first-order mixed mesh (issue 23): without the stop
+        return (None if dialect in MIXED_DIALECTS and mesh.stop is None else
                 f"{key}: this dialect's decks are not written for a mixed mesh yet (first order without the radial "
                 f"stop: {', '.join(MIXED_DIALECTS)})")
-    if getattr(mesh, "quadratic_faces", False):
+    if quad:
         if dialect == "calculix":
             if mesh.stop is not None:
                 return (f"{key}: the radial stop is GAPUNI gaps (node-based), wrong on 8-/6-node faces (corner "
                         "nodes carry -1/12 or 0 of a pressure and open at zero load): set contact.stop.side: "
                         "none for the CalculiX mortar and face-to-face decks")
-            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
+            return None if _quadratic_types(el) else f"{key}: not written yet"
         if dialect == "abaqus":       # surface-to-surface table pair (dialects/abaqus/render.py)
             if mesh.stop is not None:
                 return (f"{key}: the radial stop's slaves are base nodes (node-based contact), wrong on 8-/6-node "
                         "faces (corner nodes carry -1/12 or 0 of a pressure and open at zero load): set "
                         "contact.stop.side: none for the Abaqus surface-to-surface deck")
-            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
+            return None if _quadratic_types(el) else f"{key}: not written yet"
         if dialect == "nastran_surface":       # BSURFS faces, CHEXA/CPENTA/CTETRA with mid-side grids
-            if mesh.stop is not None and el == "c3d10":
+            if mesh.stop is not None and not _stop_wall_faces_quadrilateral(mesh):   # tetrahedra on the stop
                 return (f"{key}: the surface-contact deck's radial stop on a tetrahedral skirt's wall faces is not "
                         "written yet: set contact.stop.side: none for it, or use the calculix dialect (mortar deck)")
-            return None if el in ("c3d20", "c3d20r", "c3d10", "c3d15") else f"{key}: not written yet"
+            return None if _quadratic_types(el) else f"{key}: not written yet"
         why = NODE_BASED.get(dialect, "its contact")
         other = ("the nastran_surface dialect (Simcenter surface contact, BSURFS) or " if dialect == "nastran"
                  else "")
@@ -73,6 +85,28 @@ def element_problem(dialect: str, model, mesh) -> str | None:
     if el == "c3d8" and dialect in ("calculix", "abaqus"):
         return None
     return f"{key}: this dialect's decks are written for hex8i only so far (hex8: calculix, abaqus)"
+
+
+def _stop_wall_faces_quadrilateral(mesh) -> bool:
+    """True when every first-row cell on the stop side (``mesh.stop_elems``) has 8-node faces (a C3D20 / C3D15 wall
+    face for the surface-contact deck's stop layer); a tetrahedral skirt, or tetrahedra on the stop of a mixed one,
+    has none."""
+    elems = getattr(mesh, "stop_elems", None)
+    if elems is None or not len(elems):
+        return "c3d10" not in str(getattr(mesh, "element", "")).split("+")
+    types = cell_types(mesh)
+    return all(any(len(f) == 8 for f in types[int(e)].faces) for e in elems)
+
+
+def _quadratic_types(el: str) -> bool:
+    """True when every type of ``el`` ('c3d20r', or a mixed mesh's 'c3d20+c3d15') is a quadratic one decks carry."""
+    return all(t in QUADRATIC_ELEMENTS for t in el.split("+"))
+
+
+def cell_types(mesh) -> list:
+    """The element type (:func:`reference_solver.elements.element_type`) of every cell of ``mesh``, in cell order
+    (a mixed mesh: block by block, ``mesh.blocks``)."""
+    return [et for n, c in mesh.cell_blocks for et in [element_type(n)] * c.shape[0]]
 
 
 def ccx_element_lines(ids, conn) -> str:
@@ -89,7 +123,7 @@ def face_label_lines(mesh, elems: np.ndarray, ids: np.ndarray, z: float) -> str:
     """Element-based ``*SURFACE`` lines ``id, Sk`` of the faces of cells ``elems`` (indices; deck ids ``ids``)
     whose nodes all lie at height ``z`` [m] (1e-9 of the height): k = the face's place in the element's face
     order (CalculiX's S1, S2, ...)."""
-    types = [element_type(n) for n, c in mesh.cell_blocks for _ in range(c.shape[0])]   # a mixed mesh: per cell
+    types = cell_types(mesh)                              # a mixed mesh: per cell
     on = np.abs(mesh.nodes[:, 2] - z) <= 1e-9 * np.ptp(mesh.nodes[:, 2])
     lines = []
     for e, eid in zip(np.asarray(elems, np.int64), ids):
@@ -112,20 +146,20 @@ def corner_spring_k(mesh) -> np.ndarray:
     k = np.asarray(mesh.k_tangent, float).copy()
     row = np.full(mesh.n_nodes, -1)
     row[tab.nodes] = np.arange(tab.nodes.size)
-    et = element_type(mesh.element)
     z = mesh.nodes[:, 2]
     on = np.abs(z - z[tab.nodes].min()) <= 1e-9 * max(float(np.ptp(z)), 1e-300)
     edges = {}                                          # mid-side node -> its edge's two corner nodes
-    for local in et.faces:
-        n = len(local)
-        if n not in (6, 8):
-            continue
-        conn = mesh.hexes[:, list(local)]
-        conn = conn[on[conn].all(axis=1)]
-        c = n // 2
-        for m in range(c):
-            for f in conn:
-                edges.setdefault(int(f[c + m]), (int(f[m]), int(f[(m + 1) % c])))
+    for name, cells in mesh.cell_blocks:                # a mixed mesh: every block's own faces
+        for local in element_type(name).faces:
+            n = len(local)
+            if n not in (6, 8):
+                continue
+            conn = cells[:, list(local)]
+            conn = conn[on[conn].all(axis=1)]
+            c = n // 2
+            for m in range(c):
+                for f in conn:
+                    edges.setdefault(int(f[c + m]), (int(f[m]), int(f[(m + 1) % c])))
     moved = k.copy()
     for mid, (a, b) in edges.items():
         if row[mid] < 0 or row[a] < 0 or row[b] < 0:
@@ -140,13 +174,13 @@ def base_faces(mesh) -> list[tuple[int, int, np.ndarray]]:
     """The table slave faces of a quadratic skirt: (element index, face number k of ``Sk``, node indices in
     the face's CalculiX order, corners first, mid-side node m between corners m and m + 1), for every face of
     the base elements whose nodes all lie on the table plane (1e-9 of the height)."""
-    et = element_type(mesh.element)
+    types = cell_types(mesh)                            # a mixed mesh: each cell's own faces
     z = mesh.nodes[:, 2]
     on = np.abs(z - z[mesh.table.nodes].min()) <= 1e-9 * max(float(np.ptp(z)), 1e-300)
     elems = mesh.base_elems if mesh.base_elems is not None else np.arange(mesh.hexes.shape[0])
     out = []
     for e in np.asarray(elems, np.int64):
-        for f, local in enumerate(et.faces):
+        for f, local in enumerate(types[e].faces):
             conn = mesh.hexes[e, list(local)]
             if on[conn].all():
                 out.append((int(e), f + 1, conn))
@@ -167,9 +201,9 @@ def quadratic_face_slopes(mesh, faces, k_node: np.ndarray) -> np.ndarray:
     row = np.full(mesh.n_nodes, -1)
     row[tab.nodes] = np.arange(tab.nodes.size)
     k, area = np.asarray(k_node, float), np.asarray(tab.area, float)
-    types = element_type(mesh.element).face_types
+    types = cell_types(mesh)                            # a mixed mesh: each cell's own face types
     out = np.empty(len(faces))
     for n, (e, f, conn) in enumerate(faces):
         r = row[conn][None]
-        out[n] = face_slope(types[f - 1], mesh.nodes[conn][None], k[r], area[r])[0]
+        out[n] = face_slope(types[e].face_types[f - 1], mesh.nodes[conn][None], k[r], area[r])[0]
     return out

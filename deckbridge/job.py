@@ -82,9 +82,7 @@ def run_job(model: Model, outdir: str | Path, with_ccx: bool = False, echo: Echo
         return _job(model, out, mesh, chosen, echo, ccx_timeout_s, methods, t0)
 
 
-def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: float, methods=RUN_METHODS,
-         t0: float | None = None) -> dict:
-    t0 = time.perf_counter() if t0 is None else t0
+def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: float, methods, t0: float) -> dict:
     decks = render_all(model, out / "decks", mesh=mesh,
                        on_unsupported=lambda exc: echo(exc.note()))
     echo(f"decks: {len(decks)} files in {out / 'decks'}")

@@ -48,20 +48,21 @@ def base_wall_areas(nodes: np.ndarray, bottom_hexes: np.ndarray, wall_nodes: np.
         wall_nodes = np.asarray(wall_nodes, np.int64)
         if cells.shape[1] == 4 or (mixed and cells.shape[1] == 8):   # no mid-side nodes: every base node in a row
             return area[wall_nodes].sum(axis=1)
-        return _to_nearest_rows(nodes, area, wall_nodes)   # mid-side nodes' areas to the corner azimuths
+        return nearest_row_sums(nodes, area, wall_nodes)   # mid-side nodes' areas to the corner azimuths
     faces = cells[:, :4]
     area = np.zeros(nodes.shape[0])
     np.add.at(area, faces.ravel(), quad_nodal_areas(nodes[faces]).ravel())
     return area[np.asarray(wall_nodes, np.int64)].sum(axis=1)
 
 
-def _to_nearest_rows(nodes: np.ndarray, area: np.ndarray, wall_nodes: np.ndarray) -> np.ndarray:
-    """Nodal areas ``area`` (n,) summed per through-wall row ``wall_nodes`` (na, nw; rows sorted by azimuth):
-    each node's area to the row of nearest azimuth, half to each of two equally near rows (a mid-side node
-    half way between two corner azimuths). Sums to ``area``'s total."""
+def nearest_row_sums(nodes: np.ndarray, area: np.ndarray, wall_nodes: np.ndarray) -> np.ndarray:
+    """Nodal values ``area`` (n,; areas [m^2], or any signed nodal quantity such as forces [N]) summed per
+    through-wall row ``wall_nodes`` (na, nw; rows sorted by azimuth about z): each node's value to the row of
+    nearest azimuth, half to each of two equally near rows (a mid-side node half way between two corner
+    azimuths). Sums to ``area``'s total."""
     from .azimuth import azimuth_deg
     row_th = azimuth_deg(*nodes[wall_nodes].mean(axis=1)[:, :2].T)
-    have = np.flatnonzero(area > 0)
+    have = np.flatnonzero(area != 0)
     th = azimuth_deg(nodes[have, 0], nodes[have, 1])
     d = (th[:, None] - row_th[None, :] + 180.0) % 360.0 - 180.0
     near = np.abs(d)

@@ -9,7 +9,8 @@ says ``step S increment I load_factor L`` (increment j of step 2 is at lambda = 
 
 Point data (SI; 0 off the contact, never NaN there):
   ``displacement_m`` (n, 3); ``node_id``; ``<surface>_sigma_n_pa`` contact stress of the table / stop slave
-  (sigma_N = -force / area, < 0 compression); ``<surface>_gap_m`` (> 0 open); ``<surface>_status``
+  (sigma_N = -force / area on 4-/3-node faces, the projected pressure on 8-/6-node faces; < 0 compression);
+  ``<surface>_gap_m`` (> 0 open; the table's gap_m, :func:`deckbridge.quantities.law_gaps`); ``<surface>_status``
   (1 closed, 0 open, -1 not a slave of that surface); ``<surface>_area_m2`` tributary area;
   ``tangential_force_n``: circumferential tangential force on the table node along e_theta
   (counter-clockwise seen from +z, [N]): the spring force with ``tangential: springs``, the
@@ -48,6 +49,7 @@ from reference_solver.recover import centre_stress, path_fields, states_stress
 
 from .mesh import SkirtMesh
 from .numbering.skirt import bottom_row_index, elem_ids, mesh_node_ids
+from .quantities import law_gaps
 
 VOIGT = "xx yy zz xy yz zx"
 SURFACES = ("table", "stop")
@@ -277,12 +279,13 @@ def reference_states(model, mesh: SkirtMesh, system, sol, U: np.ndarray | None =
     (rows, n, 3) [m] the displacements of every row when already recovered (:func:`path_fields`)."""
     p = system.problem
     U = path_fields(system, sol) if U is None else U        # one solve for every row
+    gaps = law_gaps(p, sol)                                 # the table's gap_m (quantities.law_gaps)
     base_point, base_cell = mesh_data(mesh)
     states = []
     for r, s in enumerate(states_stress(p, U)):
         tang, fric = tangential_point_data(p, sol, r)
         point = {**base_point, "displacement_m": U[r],
-                 **contact_data(p.n_nodes, p.contact_nodes, p.contact_surface, sol.sigma_n[r], sol.gap[r],
+                 **contact_data(p.n_nodes, p.contact_nodes, p.contact_surface, sol.sigma_n[r], gaps[r],
                                 sol.closed[r]),
                  "tangential_force_n": tang, "friction_force_n": fric, "stress_nodal_pa": s["nodal"],
                  "von_mises_nodal_pa": s["nodal_von_mises"]}

@@ -8,13 +8,13 @@ face-weighted Lagrange in that basis (``contact_weighting='face-dual'``,
 so that the two are one discretisation of one law
 (docs/mortar_stop.md, last section: 2.4e-4 of the peak node by node on one model). The reference's default Lagrange
 (``reference/lagrange``, hat basis: a pressure field >= 0 everywhere) stays as it was.
-Rows: the tidy schema of :func:`deckbridge.solve.contact_table`, method ``mortar``, sigma_N = -lambda and the table
-rows' ``area_m2`` = d = int T N dA (the multipliers' shares: Sum force_n = Sum of the nodal forces), without a
-base-wall sigma_zz table: the sigma_zz equilibrium check (``deckbridge/quantities.py``) on these rows read 2.15 % at
-lambda 0.8 and 17.6 % at 1 (hex20 24 x 3 x 1; the hat series 0.75 / 4.1 %), cause not looked into (the solution
-itself is ccx's to 2.4e-4 on one model; docs/mortar_stop.md). As rendered the deck and the reference still differ in one model detail (the deck's
-springs on corner nodes only; the top weights are ccx's ``*DISTRIBUTING`` ones on both sides since round 5,
-``mesh_order.top_weights``): docs/mortar_stop.md.
+Rows: the tidy schema of :func:`deckbridge.solve.contact_table`, method ``mortar``, sigma_N = -lambda, the table
+rows' ``area_m2`` = d = int T N dA (the multipliers' shares: Sum force_n = Sum of the nodal forces) and ``gap_m`` the
+projected gap (D g) / d its law keeps >= 0 (:func:`deckbridge.quantities.law_gaps`), with the base-wall sigma_zz table
+of its own solution (:func:`deckbridge.wall_stress.reference_wall`, as ``reference/lagrange``; until round 5 none, and
+the report's sigma_zz check had no wall of this series). As rendered the deck and the reference still differ in one
+model detail (the deck's springs on corner nodes only; the top weights are ccx's ``*DISTRIBUTING`` ones on both sides
+since round 5, ``mesh_order.top_weights``): docs/mortar_stop.md.
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ import numpy as np
 from .methods import LAGRANGE
 from .results import SourceResult
 from .solve import solve_system
+from .wall_stress import reference_wall
 
 METHOD = "mortar"               # the ccx mortar reader's method name: the two series pair by it
 
@@ -55,4 +56,4 @@ def mortar_series(model, mesh, system, origin: str) -> SourceResult:
     df, summary, sol = solve_system(model, mesh, dual, LAGRANGE, recover=False)
     df["method"] = METHOD
     summary["method"] = METHOD
-    return SourceResult(df, origin, summary=summary)
+    return SourceResult(df, origin, summary=summary, wall=reference_wall(dual, mesh, sol))

@@ -5,8 +5,12 @@ One row per (source, method, step, increment, slave node). sigma_n_pa < 0 is com
 
 Force and area: ``force_n`` is the normal force of the master on the node [N], **> 0 compressive**
 (the solvers' own sign: Nastran CGAP, CPRESS x area, the reference solver's force), ``area_m2`` the
-node's tributary contact area [m^2], and ``sigma_n_pa = -force_n / area_m2`` exactly (:func:`conform`
-checks it). A source that knows no area (a bare CSV, an OP2 read without a model) has NaN in both.
+row's contact area [m^2] (definitions per face type: :mod:`deckbridge.quantities`). On 4- and 3-node faces
+``sigma_n_pa = -force_n / area_m2`` row by row; on 8- and 6-node faces sigma_n_pa is the projected pressure
+and force_n the consistent nodal force the solver applies (a corner of a pressed 8-node face pulls), so only
+their sums agree: Sum force_n = -Sum sigma_n_pa x area_m2 per state (:func:`conform` checks that; NaN
+force_n where the source prints no nodal force, e.g. ccx face-to-face on quadratic faces). A source that
+knows no area (a bare CSV, an OP2 read without a model) has NaN in both.
 ``wall``: through-wall ring of the node at its azimuth, 0 = inner face .. n_r = outer face, the
 dense rank of its radius among the rows of the same state and azimuth (a stop node on the outer face
 gets n_r, on the inner face 0).
@@ -34,7 +38,7 @@ COLUMNS = [
     "gap_m",         # normal gap [m], > 0 open
     "status",        # closed | open
     "area_m2",       # tributary contact area of the slave node [m^2] (NaN: unknown)
-    "force_n",       # normal contact force [N], > 0 compressive; sigma_n_pa = -force_n / area_m2
+    "force_n",       # normal contact force on the node [N], > 0 compressive (= -sigma_n_pa x area_m2 on 4-/3-node faces)
     "wall",          # through-wall ring, 0 = inner face .. n_r = outer face
 ]
 NEW_COLUMNS = ("area_m2", "force_n", "wall")      # filled by conform() when a table predates them
@@ -70,12 +74,14 @@ def wall_index(df: pd.DataFrame) -> np.ndarray:
     return key.groupby("k")["r"].rank(method="dense").fillna(1).to_numpy(np.int64) - 1
 
 
-def with_forces(df: pd.DataFrame, area) -> pd.DataFrame:
-    """``df`` with area_m2 = ``area`` [m^2] (per row, NaN where unknown), force_n = -sigma_n_pa * area
-    [N] (> 0 compressive) and wall; what each reader calls at the point it builds its table."""
+def with_forces(df: pd.DataFrame, area, force=None) -> pd.DataFrame:
+    """``df`` with area_m2 = ``area`` [m^2] (per row, NaN where unknown), force_n = ``force`` [N] (per row, > 0
+    compressive; NaN: not known) or, without it, -sigma_n_pa * area (the nodal law's force) and wall; what each
+    reader calls at the point it builds its table."""
     out = df.copy()
     out["area_m2"] = np.broadcast_to(np.asarray(area, float), (len(out),)) if len(out) else np.zeros(0)
-    out["force_n"] = -out["sigma_n_pa"].to_numpy(float) * out["area_m2"].to_numpy(float)
+    out["force_n"] = (-out["sigma_n_pa"].to_numpy(float) * out["area_m2"].to_numpy(float) if force is None
+                      else np.broadcast_to(np.asarray(force, float), (len(out),)))
     out["wall"] = wall_index(out)
     return out
 
@@ -84,8 +90,10 @@ def conform(df: pd.DataFrame) -> pd.DataFrame:
     """Return ``df`` with exactly the schema's columns, order and dtypes; raise on violations.
 
     A table without area_m2 / force_n (written before they existed) gets NaN (unknown), one without
-    wall gets :func:`wall_index`. Checked: area_m2 > 0 where known, force_n known exactly where
-    area_m2 is, and sigma_n_pa = -force_n / area_m2 to 1e-9 relative (of the state's largest |force|).
+    wall gets :func:`wall_index`. Checked: area_m2 > 0 where known, force_n only where area_m2 is known, and
+    per state (source, method, step, increment) over its rows with both known Sum force_n = -Sum sigma_n_pa x
+    area_m2 to 1e-9 of the state's Sum |force_n| (row by row on 4-/3-node faces, in sum on 8-/6-node faces:
+    module doc).
     """
     df = df.copy() if any(c not in df.columns for c in NEW_COLUMNS) else df
     for c in ("area_m2", "force_n"):
@@ -111,15 +119,20 @@ def conform(df: pd.DataFrame) -> pd.DataFrame:
     known = np.isfinite(a)
     if (a[known] <= 0).any():
         raise ResultsError(f"area_m2 = {a[known][a[known] <= 0][0]!r}: must be > 0 (or NaN: unknown)")
-    if (np.isfinite(f) != known).any():
-        raise ResultsError("force_n must be given exactly where area_m2 is (NaN in both when unknown)")
-    if known.any():
-        err = np.abs(s[known] * a[known] + f[known])
-        scale = np.nanmax(np.abs(f[known]))
-        if (err > FORCE_RTOL * max(scale, 1e-300) + 1e-300).any():
-            i = int(np.argmax(err))
-            raise ResultsError(f"sigma_n_pa = {s[known][i]!r} but -force_n / area_m2 = {-f[known][i] / a[known][i]!r}: "
-                               "force_n > 0 is compressive, sigma_n_pa = -force_n / area_m2")
+    if (np.isfinite(f) & ~known).any():
+        raise ResultsError("force_n given where area_m2 is not (NaN in both when unknown)")
+    both = known & np.isfinite(f)
+    if both.any():
+        state = pd.factorize(pd.MultiIndex.from_arrays([out[c].to_numpy()[both] for c in
+                                                        ("source", "method", "step", "increment")]))[0]
+        err = np.abs(np.bincount(state, s[both] * a[both] + f[both]))
+        scale = np.bincount(state, np.abs(f[both]))
+        bad = err > FORCE_RTOL * np.maximum(scale, 1e-300) + 1e-300
+        if bad.any():
+            i = int(np.argmax(np.where(bad, err / np.maximum(scale, 1e-300), 0.0)))
+            raise ResultsError(f"Sum force_n = {np.sum(f[both][state == i])!r} but -Sum sigma_n_pa x area_m2 = "
+                               f"{-np.sum((s * a)[both][state == i])!r} in one state: force_n > 0 is compressive, "
+                               "sigma_n_pa < 0 compression")
     if (out["wall"] < 0).any():
         raise ResultsError("wall must be >= 0 (0 = inner face)")
     return out.reset_index(drop=True)

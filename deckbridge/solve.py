@@ -35,6 +35,7 @@ from .numbering.skirt import mesh_node_ids
 from .paraview import result_mesh, write_reference_vtus  # noqa: F401  (result_mesh: solve's public name)
 from .results import conform, with_forces
 from .methods import method as method_of
+from .quantities import law_gaps
 from .tangent_springs import follow_springs
 
 SOURCE = "reference"
@@ -240,13 +241,10 @@ def contact_table(p: rs.Problem, mesh: SkirtMesh, sol: rs.Solution) -> pd.DataFr
         "source": SOURCE, "method": sol.method, "step": rep(sol.step), "increment": rep(sol.increment),
         "load_factor": rep(sol.load_factor), "node": til(mesh_node_ids(mesh, p.contact_nodes)),
         "surface": til(p.contact_surface), "theta_deg": til(wrap_deg(rows.theta)),
-        "z": til(rows.z), "r": til(rows.r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": sol.gap.ravel(),
+        "z": til(rows.z), "r": til(rows.r), "sigma_n_pa": sol.sigma_n.ravel(), "gap_m": law_gaps(p, sol).ravel(),
         "status": np.where(sol.closed.ravel(), "closed", "open"),
-    }), til(p.contact_area))
-    df["force_n"] = sol.force.ravel()           # the solver's own (> 0 compressive); sigma_n = -force / area
-    if p.contact_weighting != "nodal":          # face-weighted: sigma_n is the projected pressure (face_law.py);
-        df["force_n"] = -df["sigma_n_pa"] * df["area_m2"]   # the table's force: that pressure on its hat area
-    return conform(df)
+    }), til(p.contact_area), sol.force.ravel())   # the solver's own nodal force (> 0 compressive): -sigma_n x area
+    return conform(df)                          # on nodal laws, D^T lambda on face-weighted ones (quantities.py)
 
 
 def _stats(a: np.ndarray) -> dict | None:

@@ -3,7 +3,10 @@
 Wall table columns (one row per state and azimuth): step, increment, load_factor, theta_deg,
 szz_inner_pa, szz_outer_pa, szz_mean_pa, szz_bending_pa [Pa], tension > 0 (the definitions of
 :mod:`deckbridge.quantities`), and ``area_m2`` [m^2] the base area of the azimuth (every bottom-row face,
-on a pad or not: :func:`deckbridge.mesh_data.base_wall_areas`; absent from older tables). Reference: :func:`deckbridge.base_wall.reference_base_wall` on the
+on a pad or not: :func:`deckbridge.mesh_data.base_wall_areas`; absent from older tables); on cells with mid-side
+nodes (10-, 15-, 20-node) also ``axial_force_n`` [N], the row's share of the base section's axial force
+int sigma_zz dA over every base-face node (:func:`deckbridge.base_wall.section_forces`: the rows hold the corners
+only, so Sum mean x area is not that integral there). Reference: :func:`deckbridge.base_wall.reference_base_wall` on the
 bottom element row (Gauss points -> corners, averaged over the row's elements sharing a node);
 CalculiX: ``*EL PRINT`` S of the bottom row (:func:`deckbridge.dialects.calculix.el_stress.ccx_wall`, the
 dialect record's ``wall_reader``), used when the deck wrote it (never the ``.frd`` nodal stresses). Read back
@@ -31,6 +34,7 @@ WALL_CSV = "wall_stress.csv"
 WALL_COLUMNS = ["step", "increment", "load_factor", "theta_deg", "szz_inner_pa", "szz_outer_pa",
                 "szz_mean_pa", "szz_bending_pa"]          # required; AREA written when known
 AREA = "area_m2"
+FORCE = "axial_force_n"                                    # cells with mid-side nodes (BaseWall.force)
 
 
 def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution, U: np.ndarray | None = None) -> pd.DataFrame:
@@ -45,8 +49,10 @@ def reference_wall(system: rs.CondensedSystem, mesh, sol: rs.Solution, U: np.nda
                                     "load_factor": float(sol.load_factor[i]), "theta_deg": snap_deg(bw.theta_deg),
                                     "szz_inner_pa": bw.inner, "szz_outer_pa": bw.outer,
                                     "szz_mean_pa": bw.mean, "szz_bending_pa": bw.bending,
-                                    AREA: base_wall_areas(mesh.nodes, mesh.hexes[bottom], bw.nodes)}))
-    return pd.concat(frames, ignore_index=True)[WALL_COLUMNS + [AREA]]
+                                    AREA: base_wall_areas(mesh.nodes, mesh.hexes[bottom], bw.nodes),
+                                    **({} if bw.force is None else {FORCE: bw.force})}))
+    out = pd.concat(frames, ignore_index=True)
+    return out[WALL_COLUMNS + [AREA] + ([FORCE] if FORCE in out else [])]
 
 
 def write_wall(folder: Path, table: pd.DataFrame) -> Path:

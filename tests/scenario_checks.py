@@ -10,24 +10,23 @@ job's printed warnings against the data they claim.
 from __future__ import annotations
 
 import re
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from deckbridge.readers.reference import read_friction
 from deckbridge.quantities import PENETRATION_FLOOR, PENETRATION_WARN, RESIDUAL_WARN, TENSION_WARN
+from deckbridge.quantities import nodal_force, pressure_force
 from deckbridge.readers import read
 from deckbridge.importers.inp_mesh import read_inp_mesh
 from deckbridge.report.caveats import SMALL_STRAIN
 
+from ccx_f2f_resultant import ring_resultant
+from scenario_units import TOL_CCX_FILES, TOL_UNITS, paraview_si_equals_mm, si_equals_mm  # noqa: F401 (CHECKS, tests)
 from scenarios import Run, table_state
 
 TOL_FORCE = 1e-3        # equilibrium: relative to N (forces) and N R (moments)
 TOL_CCX = 0.02          # ccx against the reference: fraction of the peak |sigma_N| of the state
-TOL_UNITS = 1e-6        # SI against mm: fraction of the largest value of the quantity
-TOL_CCX_FILES = 1e-5    # the same, for what ccx wrote: 6 significant digits in the .frd (E12.5), 7 in the .dat
-                        # (E13.6); two files rounded apart differ by up to 1e-5 of a value (seen: 3.2e-6)
 
 
 def ran(run: Run) -> str:
@@ -165,7 +164,8 @@ def equilibrium(run: Run) -> str:
     """Global equilibrium of N and M (vertical contact forces of every source, every state) against the
     applied loads (moments of NLGEOM decks to the small-strain rotation bound); of T (horizontal) where the output carries every horizontal force: the reference's
     friction forces and stop forces every state (friction cases), the reference reactions at step ends
-    (spring cases: the springs' forces are not in contact.csv)."""
+    (spring cases: the springs' forces are not in contact.csv). force_n: each solver's nodal force (exact in sum and
+    moment); ccx f2f on 8-/6-node faces prints none (NaN): its master ring's reaction (ccx_f2f_resultant)."""
     ran(run)
     n = abs(run.model.loads.N)
     scale_m = n * run.model.geometry.radius
@@ -175,14 +175,16 @@ def equilibrium(run: Run) -> str:
         # (P-delta), bounded in the small-strain range by SMALL_STRAIN['rotation_rad']
         tol_m = SMALL_STRAIN["rotation_rad"] if _nlgeom(run, label) else TOL_FORCE
         fric = read_friction(run.out / f"reference_{label.split('/')[1]}") if label.startswith("ref") else None
+        master = ring_resultant(run.out / "ccx", label, df, run.model.steps.lambda_max)
         for step, inc, lam, g in table_state(df):
             f_app, m_app = _applied(run, lam)
             tab = g[g.surface == "table"]
             th = np.radians(tab.theta_deg.to_numpy(float))
-            fz = tab.force_n.to_numpy(float)
+            fz = nodal_force(tab)               # the solver's nodal forces: exact in sum and moment
             x, y = tab.r.to_numpy(float) * np.cos(th), tab.r.to_numpy(float) * np.sin(th)
-            err = {"N": abs(fz.sum() + f_app[2]) / n, "Mx": abs((y * fz).sum() + m_app[0]) / scale_m,
-                   "My": abs(-(x * fz).sum() + m_app[1]) / scale_m}
+            fm = (fz.sum(), (y * fz).sum(), -(x * fz).sum()) if master is None else master[lam]
+            err = {"N": abs(fm[0] + f_app[2]) / n, "Mx": abs(fm[1] + m_app[0]) / scale_m,
+                   "My": abs(fm[2] + m_app[1]) / scale_m}
             if fric is not None:
                 fr = fric[(fric.step == step) & (fric.increment == inc)]
                 st = g[g.surface == "stop"]
@@ -203,14 +205,17 @@ def equilibrium(run: Run) -> str:
 
 
 def no_free_penetration(run: Run) -> str:
-    """No table node penetrates without force (the contact law; quantities.free_penetration_m's thresholds)."""
+    """No table node penetrates without force (the contact law; quantities.free_penetration_m's thresholds), on the
+    gap the row's law constrains (gap_m, quantities.law_gaps): the face-weighted Lagrange's projected gap
+    (D g) / D 1 on 8-/6-node faces (reference lagrange and mortar, ccx mortar), whose nodal gap may be < 0 at a
+    force-free row (the constraint is weak: -1.7 um hex20r / -6.7 um tet10 at lambda 1)."""
     ran(run)
     r_max = run.model.geometry.radius + run.model.geometry.thickness
     for label, df in run.tables.items():
         for step, inc, lam, g in table_state(df):
             tab = g[g.surface == "table"]
             pen = -tab.gap_m.to_numpy(float)
-            free = tab.force_n.to_numpy(float) <= 0
+            free = pressure_force(tab) <= 0             # no pressure (8-node corners pull: force_n < 0 there)
             loaded = pen[~free].max(initial=0.0)
             worst = pen[free].max(initial=0.0)
             assert worst <= max(PENETRATION_FLOOR * r_max, PENETRATION_WARN * loaded), (
@@ -225,9 +230,10 @@ def _lift_over_r(df, lam: float, radius: float) -> float:
 
 
 def _through_wall(g, side: str) -> np.ndarray:
-    """Through-wall sigma_N per azimuth [Pa] of joined table rows: sum of forces / sum of areas."""
-    a = g.groupby(np.round(g[f"theta_deg{side}"].to_numpy(float), 6))[[f"force_n{side}", f"area_m2{side}"]].sum()
-    return -(a[f"force_n{side}"] / a[f"area_m2{side}"]).to_numpy(float)
+    """Through-wall sigma_N per azimuth [Pa] of joined table rows: Sum sigma_N x area / Sum area (quantities)."""
+    w = g.assign(sa=g[f"sigma_n_pa{side}"] * g[f"area_m2{side}"])
+    a = w.groupby(np.round(g[f"theta_deg{side}"].to_numpy(float), 6))[["sa", f"area_m2{side}"]].sum()
+    return (a["sa"] / a[f"area_m2{side}"]).to_numpy(float)
 
 
 def ccx_vs_reference(run: Run) -> str:
@@ -245,15 +251,12 @@ def ccx_vs_reference(run: Run) -> str:
     if run.model.analysis.nlgeom:
         return "skipped: NLGEOM decks against the small-strain reference"
     out = []
-    tables = dict(run.tables)
-    if run.mortar_partner is not None:          # ccx/mortar's partner in ccx's own multiplier basis
-        tables["reference/mortar"] = run.mortar_partner
-    mortar = "mortar" if "reference/mortar" in tables else "lagrange"
+    mortar = "mortar" if "reference/mortar" in run.tables else "lagrange"   # ccx/mortar's partner in ccx's basis
     pairs = ([] if run.quadratic else [("penalty", "penalty", False)]) + [(mortar, "mortar", True)]
-    if "reference/f2f" in tables:               # face-to-face penalty vs the face-integrated reference penalty
+    if "reference/f2f" in run.tables:           # face-to-face penalty vs the face-integrated reference penalty
         pairs.append(("f2f", "f2f", True))
     for ref, ccx, wall in pairs:
-        r, c = tables[f"reference/{ref}"], tables[f"ccx/{ccx}"]
+        r, c = run.tables[f"reference/{ref}"], run.tables[f"ccx/{ccx}"]
         j = r[r.surface == "table"].merge(c[c.surface == "table"], on=["step", "increment", "node"],
                                           suffixes=("_r", "_c"))
         assert len(j) == (c.surface == "table").sum(), f"ccx/{ccx}: table nodes or states do not match the reference"
@@ -271,64 +274,6 @@ def ccx_vs_reference(run: Run) -> str:
     return "; ".join(out)
 
 
-def _si_twin(run: Run):
-    """(SI model, its ccx penalty job: f2f on 8-/6-node faces) of a mm case, run once (tests/ccx_job.py)."""
-    from ccx_job import ccx_job
-    si = run.model.with_overrides({"units": "SI"})
-    if run.si_twin is None:
-        run.si_twin = ccx_job(si, Path(tempfile.mkdtemp(prefix="si-", dir=run.out.parent)), run.penalty_deck)
-    return si, run.si_twin
-
-
-def paraview_si_equals_mm(run: Run) -> str:
-    """The ccx ParaView series (deckbridge.dialects.calculix.paraview) of the mm case's penalty job equals that of its SI
-    twin: every point and cell array of every VTU, and the points, to 1e-6 of the array's largest value."""
-    import meshio
-
-    from deckbridge.dialects.calculix.paraview import write_ccx_series
-    ran(run)
-    if run.model.units != "mm":
-        return "skipped: SI case"
-    si, deck = _si_twin(run)
-    mm_job = run.out / "ccx" / deck.name
-    a = write_ccx_series(deck, si, Path(tempfile.mkdtemp(prefix="pv-si-", dir=run.out.parent)))[1:]
-    b = write_ccx_series(mm_job, run.model, Path(tempfile.mkdtemp(prefix="pv-mm-", dir=run.out.parent)))[1:]
-    assert len(a) == len(b) > 0, f"{len(a)} SI and {len(b)} mm VTU files"
-    n = 0
-    for fa, fb in zip(a, b):
-        ma, mb = meshio.read(fa), meshio.read(fb)
-        arrays = [("points", ma.points, mb.points)]
-        arrays += [(k, v, mb.point_data.get(k)) for k, v in ma.point_data.items()]
-        arrays += [(k, v[0], mb.cell_data[k][0] if k in mb.cell_data else None) for k, v in ma.cell_data.items()]
-        for key, va, vb in arrays:
-            assert vb is not None, f"{fb.name}: no {key}"
-            va, vb = np.asarray(va, float), np.asarray(vb, float)
-            d = np.abs(va - vb).max(initial=0.0) / max(np.abs(va).max(initial=0.0), 1e-300)
-            assert d <= TOL_CCX_FILES, f"{fb.name} {key}: SI vs mm differ by {d:.3g} of the largest"
-            n += 1
-    return f"{n} arrays equal"
-
-
-def si_equals_mm(run: Run) -> str:
-    """Every quantity equal between the SI and the mm run: the mm case's CalculiX penalty deck against the
-    same model's SI deck, both run by ccx (contact table, node coordinates of the decks)."""
-    ran(run)
-    if run.model.units != "mm":
-        return "skipped: SI case"
-    si, deck = _si_twin(run)
-    a = read(deck.with_suffix(".frd"), model=si)
-    b = run.tables[f"ccx/{run.penalty_deck}"]
-    j = a.merge(b, on=["step", "increment", "node", "surface"], suffixes=("_si", "_mm"))
-    assert len(j) == len(a) == len(b), "SI and mm tables differ in rows"
-    for col in ("sigma_n_pa", "gap_m", "force_n", "r", "theta_deg", "load_factor"):
-        d = np.abs(j[f"{col}_si"] - j[f"{col}_mm"]).max() / max(np.abs(j[f"{col}_si"]).max(), 1e-300)
-        assert d <= TOL_CCX_FILES, f"{col}: SI vs mm differ by {d:.3g} of the largest"
-    x_si = read_inp_mesh(deck).nodes
-    x_mm = read_inp_mesh(run.out / "ccx" / deck.name).nodes
-    assert np.abs(x_mm * 1e-3 - x_si).max() <= TOL_UNITS * np.abs(x_si).max(), "deck coordinates"
-    return f"{len(j)} rows equal"
-
-
 def _base_area(run: Run, n_theta: int) -> float:
     """Area of the meshed base: the annulus R -+ t/2 between two regular n_theta-gons (the mesh's facets)."""
     g = run.model.geometry
@@ -343,7 +288,9 @@ def warnings_true(run: Run) -> str:
     """Every warning the job prints is true, re-checked from the data: an equilibrium residual against the
     applied N (the base-wall sigma_zz resultant over the whole ring), open-gap tension and force-free
     penetration against the contact table. The sigma_zz resultant is the through-wall mean over every azimuth
-    times the area of the meshed base (a regular polygon annulus), against the applied N."""
+    times the area of the meshed base (a regular polygon annulus), against the applied N; on cells with mid-side
+    nodes (the wall rows hold the corners only, the faces are curved) the wall table's section force, Sum
+    axial_force_n (int sigma_zz dA over every base-face node)."""
     ran(run)
     label, count = None, 0
     n = abs(run.model.loads.N)
@@ -361,8 +308,12 @@ def warnings_true(run: Run) -> str:
         if "sigma_zz equilibrium" in text:
             wall = run.walls.get(label)
             assert wall is not None, f"{label}: warned without a wall table: {line}"
-            w = wall[np.isclose(wall.load_factor, lam, rtol=1e-3, atol=1e-9)].groupby("theta_deg").szz_mean_pa.mean()
-            res = abs(w.mean() * _base_area(run, w.size) + n) / n
+            at = wall[np.isclose(wall.load_factor, lam, rtol=1e-3, atol=1e-9)]
+            w = at.groupby("theta_deg").szz_mean_pa.mean()
+            if "axial_force_n" in at and np.isfinite(at.axial_force_n).all():
+                res = abs(at.groupby("theta_deg").axial_force_n.mean().sum() + n) / n
+            else:
+                res = abs(w.mean() * _base_area(run, w.size) + n) / n
             assert res > RESIDUAL_WARN, (f"{label}: '{line.strip()}' but the wall's sigma_zz resultant balances "
                                          f"the applied N to {res:.2%}")
         elif "tension" in text:
@@ -372,7 +323,7 @@ def warnings_true(run: Run) -> str:
         elif "penetrate" in text:
             nodes = [int(x) for x in re.findall(r"\d+", text.split("node(s)")[1].split("penetrate")[0])]
             g = rows[rows.node.isin(nodes)]
-            assert len(g) and ((g.gap_m < 0) & (g.force_n <= 0)).all(), f"{label}: '{line.strip()}' not in the data"
+            assert len(g) and ((g.gap_m < 0) & (g.sigma_n_pa >= 0)).all(), f"{label}: '{line.strip()}' not in the data"
     return f"{count} warnings"
 
 

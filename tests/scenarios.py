@@ -187,7 +187,6 @@ class Run:
     error: str | None = None
     overrides: tuple = ()
     si_twin: Path | None = None      # the SI twin's ccx penalty job of a mm case (scenario_checks, made once)
-    mortar_partner: pd.DataFrame | None = None   # reference/mortar (ccx's basis; not in ``tables``, no invariant's)
 
     @property
     def quadratic(self) -> bool:
@@ -251,8 +250,9 @@ def run_case(case: Case, folder: Path, mortar_min_increment: float | None = None
     f2f = res["comparison"].source("reference/f2f")   # ccx/f2f's partner, in memory only (deckbridge/reference_f2f.py)
     if f2f is not None:
         run.tables["reference/f2f"], run.walls["reference/f2f"] = f2f.table, f2f.wall
-    dual = res["comparison"].source("reference/mortar")   # ccx/mortar's partner in ccx's basis (reference_dual.py)
-    run.mortar_partner = None if dual is None else dual.table
+    mortar = res["comparison"].source("reference/mortar")   # ccx/mortar's partner (deckbridge/reference_dual.py)
+    if mortar is not None:
+        run.tables["reference/mortar"], run.walls["reference/mortar"] = mortar.table, mortar.wall
     return run
 
 

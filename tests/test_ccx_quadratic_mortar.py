@@ -77,7 +77,7 @@ def moment_run(element: str, folder, shape: str | None = None) -> dict:
                  + MOMENT_LOADS)
     inp = ccx_job(model, folder, "lagrange")
     mesh, system, sol = reference_lagrange(model)
-    _RUNS[element, shape] = {"model": model, "mesh": mesh, "cols": TableColumns(mesh, system),
+    _RUNS[element, shape] = {"model": model, "mesh": mesh, "system": system, "cols": TableColumns(mesh, system),
                              "states": mortar_states(model, mesh, system, sol, inp)}
     return _RUNS[element, shape]
 
@@ -178,14 +178,12 @@ def test_mortar_deck_matches_the_reference_lagrange_past_liftoff_away_from_the_e
 
 def _dual_reference(run):
     """The reference face-weighted Lagrange in ccx's own multiplier basis (``contact_weighting='face-dual'``,
-    tests/test_dual_mortar.py) on ``run``'s model and mesh, solved once per run."""
+    tests/test_dual_mortar.py; ``reference_dual.dual_system``: the run's condensed system) on ``run``'s model and
+    mesh, solved once per run."""
     if "dual" not in run:
-        import dataclasses
-
-        import reference_solver as rs
-        from deckbridge.solve import build_problem, solve_system
-        p = dataclasses.replace(build_problem(run["model"], run["mesh"]), contact_weighting="face-dual")
-        run["dual"] = solve_system(run["model"], run["mesh"], rs.condense(p), "lagrange")[2]
+        from deckbridge.reference_dual import dual_system
+        from deckbridge.solve import solve_system
+        run["dual"] = solve_system(run["model"], run["mesh"], dual_system(run["system"]), "lagrange")[2]
     return run["dual"]
 
 

@@ -30,16 +30,24 @@ def test_dat_time_snaps_to_the_frd_time():
 @needs_ccx
 @pytest.mark.parametrize("element, method", [("hex20r", "f2f"), ("hex8i", "penalty")])
 def test_three_increments_read_as_three_states(element, method, tmp_path):
-    """Each step-2 state at lambda 0.2 / 0.4 / 0.6 once, its table forces carrying N (1e-3) and every gap finite."""
+    """Each step-2 state at lambda 0.2 / 0.4 / 0.6 once, its contact forces carrying N (1e-3) and every gap finite
+    (f2f on 8-node faces: the master ring's reaction, result_files.f2f_master_resultant; the table has no nodal force)."""
     from ccx_job import ccx_job
+    from deckbridge.dialects.calculix.result_files import f2f_master_resultant
     from deckbridge.readers import read
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         model = load(None, [f"mesh.element={element}", *SMALL])
-        df = read(ccx_job(model, tmp_path, method).with_suffix(".frd"), fmt="calculix", model=model)
+        job = ccx_job(model, tmp_path, method)
+        df = read(job.with_suffix(".frd"), fmt="calculix", model=model)
     tab = df[(df.surface == "table") & (df.step == 2)]
     lams = tab.groupby("increment").load_factor.first().to_numpy()
     np.testing.assert_allclose(lams, [0.2, 0.4, 0.6], rtol=1e-6)
     for _, g in tab.groupby("increment"):
-        assert g.force_n.sum() == pytest.approx(model.loads.N, rel=1e-3)
+        if method == "penalty":
+            assert g.force_n.sum() == pytest.approx(model.loads.N, rel=1e-3)
         assert np.isfinite(g.gap_m).all()
+    if method == "f2f":
+        fz = [F[2] for t, (F, _) in sorted(f2f_master_resultant(job).items()) if t > 1.0]
+        np.testing.assert_allclose(fz, model.loads.N, rtol=1e-3)
+        assert len(fz) == 3

@@ -158,6 +158,7 @@ def dual_run(element: str, folder, same_model: bool) -> dict:
     from deckbridge.numbering.skirt import mesh_node_ids
     from deckbridge.mesh import build_mesh
     from deckbridge.model import load
+    from deckbridge.reference_dual import dual_system
     from deckbridge.solve import build_problem, solve_system
     from mortar_columns import TableColumns, dual_multipliers, mortar_states, state_index
     model = load(None, [f"mesh.element={element}", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1",
@@ -165,10 +166,10 @@ def dual_run(element: str, folder, same_model: bool) -> dict:
                  + (["load_introduction=kinematic"] if same_model else []))
     inp = ccx_job(model, folder, "lagrange")
     mesh = build_mesh(model)
-    p = dataclasses.replace(build_problem(model, mesh), contact_weighting="face-dual")
+    p = build_problem(model, mesh)
     if same_model:
         p = dataclasses.replace(p, spring_k=corner_spring_k(mesh))
-    system = rs.condense(p)
+    system = dual_system(rs.condense(p))        # contact_weighting='face-dual', the table rows' areas its shares d
     _, _, sol = solve_system(model, mesh, system, "lagrange")
     cols = TableColumns(mesh, system)
     states = mortar_states(model, mesh, system, sol, inp)

@@ -76,16 +76,26 @@ def test_friction_refused_on_quadratic_faces():
 
 
 def test_solve_model_writes_the_projected_pressure_on_quadratic_faces():
-    """The contact table of a hex20r skirt: sigma_n_pa is the law's pressure (-T^-1 r), force_n that pressure on
-    the row's hat area int Phi_a dA (the table's contract), adding up to the reaction N (1e-9); every table node
-    closed under N alone."""
+    """The contact table of a tet10 skirt: sigma_n_pa is the law's pressure (-D^-T r), force_n the nodal force r the
+    solver applies (quantities.DEFINITIONS), both adding up to the reaction N (1e-9), the nodal forces' moment
+    balancing the applied one (1e-9 of N R; the pressure x hat area about the nodes does not: a 6-node face's
+    corner force is not its share); every table node closed under N alone."""
     m = load(None, ["mesh.element=tet10", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1", "steps.lambda_max=0.2",
                     "steps.increments=1", "outputs.vtu=false"])
     df, summary = solve_model(m, "lagrange")
     d = df[(df.surface == "table") & (df.step == 1)]
     assert (d.status == "closed").all()
-    np.testing.assert_allclose(d.sigma_n_pa * d.area_m2, -d.force_n, rtol=1e-12)
+    assert (d.sigma_n_pa * d.area_m2).sum() == pytest.approx(-m.loads.N, rel=1e-9)
     assert d.force_n.sum() == pytest.approx(m.loads.N, rel=1e-9)
+    s2 = df[(df.surface == "table") & (df.step == 2)]
+    s2 = s2[s2.increment == s2.increment.max()]
+    lv, lam = m.load_vectors(), float(s2.load_factor.iloc[0])
+    f_app = np.asarray(lv["N_force"], float) + lam * np.asarray(lv["T_force"], float)
+    m_app = lam * np.asarray(lv["M_moment"], float) + np.cross([0.0, 0.0, m.geometry.height], f_app)
+    x = s2.r * np.cos(np.radians(s2.theta_deg))
+    scale = m.loads.N * m.geometry.radius
+    assert abs(-(x * s2.force_n).sum() + m_app[1]) <= 1e-9 * scale
+    assert abs(-(x * -s2.sigma_n_pa * s2.area_m2).sum() + m_app[1]) > 1e-6 * scale      # the pressure's share
     assert summary["reaction_force_n"]["1"][2] == pytest.approx(m.loads.N, rel=1e-9)
     exact = -m.loads.N / (2 * np.pi * m.geometry.radius * m.geometry.thickness)
     assert np.abs(d.sigma_n_pa / exact - 1).max() < 0.05            # coarse mesh: 0.98-1.02 measured on 24 x 3 x 2

@@ -82,14 +82,16 @@ def test_table_sigma_times_area_is_the_nodal_force_sum(element, method):
 
 @pytest.mark.ccx
 @pytest.mark.slow
-def test_run_with_ccx_hex20_balances_and_does_not_warn(tmp_path):
+def test_run_with_ccx_hex20_balances_and_warns_truly(tmp_path):
     """`run --with-ccx` on a hex20 24 x 3 x 1 skirt (no stop, 5 increments; ~50 s one core). The ccx mortar table
     (-D^-T r on hat areas) adds up to ccx's own table reaction Sum RF_z of the .dat at every state (1e-9) and to N
     (ccx's equilibrium, measured 2e-8); the reference series' contact resultants are N (1e-9) at every compared
-    lambda, ccx/mortar's (1e-6; HRZ areas: 40 % off at lambda 0.8). No sigma_zz equilibrium warning inside
-    the small-strain range: reference/lagrange at lambda 0.8 (lift / R 0.0034) measured 0.75 % (HRZ areas: 2.19 %,
-    warned); at lambda 1 (lift / R 0.058, past the range) 4.06 %, warned, a sigma_zz recovery error of the coarse
-    mesh past liftoff (its contact resultant is N)."""
+    lambda, ccx/mortar's (1e-6; HRZ areas: 40 % off at lambda 0.8). The sigma_zz equilibrium check (the wall's
+    section force, int sigma_zz dA over every base-face node) balances N to 7e-5 up to lambda 0.6, unwarned; at
+    0.8 (past liftoff, lift / R 0.0034) reference/lagrange reads 1.08 % and reference/mortar 1.66 %, warned, and
+    true: the FE stress D B u itself, integrated on the base faces at their 3 x 3 points, misses N by the same
+    1.08 % (full integration on the coarse mesh next to the contact edge; hex20r balances to 1e-9,
+    tests/test_run_ccx_quadratic.py). (Before round 5 the corner rows' mean x area read 0.75 % there.)"""
     from deckbridge.api import run
     from deckbridge.dialects.calculix.result_files import _dat_blocks
     from deckbridge.readers import read
@@ -107,9 +109,11 @@ def test_run_with_ccx_hex20_balances_and_does_not_warn(tmp_path):
                 rel = 1e-9 if label.startswith("reference/") else 1e-6
                 assert ex["contact_resultant_n"] == pytest.approx(N, rel=rel), (pt["load_factor"], label)
             if "szz_resultant_residual" in ex and ex.get("lift_over_radius", 0.0) <= SMALL_STRAIN_LIFT:
-                assert ex["szz_resultant_residual"] <= RESIDUAL_WARN and not ex["warn"], (pt["load_factor"], label)
+                res = ex["szz_resultant_residual"]
+                assert res <= (1e-4 if pt["load_factor"] <= 0.6 else 0.02), (pt["load_factor"], label, res)
+                assert ex["warn"] == (res > RESIDUAL_WARN), (pt["load_factor"], label, res)
                 checked += 1
-    assert checked >= 3 * 3                            # 3 reference series x lambda 0, 0.6, 0.8
+    assert checked >= 4 * 3                            # 4 reference series x lambda 0, 0.6, 0.8
     inp = out / "ccx" / f"{model.name}_ccx_lagrange.inp"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

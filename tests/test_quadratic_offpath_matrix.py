@@ -19,15 +19,6 @@ from scenarios import check_params, QUADRATIC_CASES, Case, run_case
 CASES = [Case(levels) for levels in QUADRATIC_CASES]
 
 KNOWN = [
-    (lambda v: True, ("equilibrium",),
-     "open: on 8-/6-node faces the contact table's force_n is -sigma_N x the row's hat area (docs/elements.md), "
-     "whose sum is the reaction exactly but whose first moment is not: reference/penalty's My residual "
-     "1.1e-3 - 1.6e-3 of N R at lambda 0.4 (the matrix's tolerance 1e-3); ccx f2f's force sum misses N by "
-     "0.5-0.7 % past liftoff (tests/test_quadratic_offpath_units.py)"),
-    (lambda v: v["top"] == "kinematic", ("no_free_penetration",),
-     "open: the face-weighted Lagrange law keeps weighted gaps >= 0, not nodal ones: past liftoff a row with no "
-     "force has a nodal gap of -1.7 um (hex20r, loaded rows 2.8 um) / -6.7 um (tet10, loaded 10 um) at lambda 1, "
-     "over the invariant's PENETRATION_WARN share of the loaded rows' penetration"),
     (lambda v: v["element"] == "hex20r", ("ccx_vs_reference",),
      "open: ccx's face-to-face deck against the face-integrated reference penalty (reference/f2f) on the hex20r cone "
      "(16 x 4 x 2, rigid top): 4.31 % of the peak through the wall at lambda 0.8 (worst 14.4 % past it); ccx "
@@ -37,13 +28,6 @@ KNOWN = [
      "open: ccx's face-to-face deck against reference/f2f on the Gmsh C3D20 import (16 x 4 x 1, distributing "
      "top): 25.0 % of the peak through the wall at lambda 0.8 (the same with the HRZ top weights of round 4); "
      "ccx mortar against reference/mortar within 0.15 % (hat basis: 8.2 %)"),
-    (lambda v: v["element"] == "hex20r" and v["units"] == "mm", ("si_equals_mm", "paraview_si_equals_mm"),
-     "open: ccx's face-to-face deck on the hex20r cone in mm against SI: sigma_N differs by 2.16e-5 (table) and "
-     "7.7e-5 (VTU) of the largest, over the printed-digit tolerance 1e-5 (the tet10 twin of "
-     "tests/test_quadratic_offpath_units.py agrees within it; 8-node penalty decks: <= 3.2e-6)"),
-    (lambda v: v["mesh"] != "parametric", ("warnings_true",),
-     "open: the job warns 'base-wall sigma_zz equilibrium residual 2.72 %' at lambda 0.8 on the Gmsh C3D20 "
-     "import where the wall table's sigma_zz resultant balances N to 0.10 %"),
 ]
 
 

@@ -230,3 +230,25 @@ def test_cone_base_check_is_the_force_balance_and_its_residual_falls_with_the_el
     wall = reference_wall(system, mesh, sol)
     s1 = df[df.step == 1]
     assert Q.equilibrium(wall[wall.step == 1], s1[s1.increment == s1.increment.max()])["szz_resultant_residual"] < 1e-6
+
+
+def test_force_n_of_an_8_node_face_is_the_nodal_force_and_the_pressure_weighs_the_sums():
+    """One 8-node face (area 1 m^2) pressed by p: sigma_N = -p at every node on the hat areas (corners 1/24, mid-sides
+    5/24), force_n the consistent nodal forces (corners -p/12: they pull, mid-sides p/3; quantities.DEFINITIONS).
+    The table conforms (Sum force_n = -Sum sigma_N area), the through-wall sigma_N is -p, no corner reads as a
+    penetration without force, and a table whose forces have the wrong sign is refused."""
+    from deckbridge.results import ResultsError, conform
+    p = 2e6
+    corner = np.array([1, 0, 1, 0, 1, 0, 1, 0], bool)         # around the face: corner, mid-side, corner, ...
+    theta = [0.0, 1.0, 2.0, 2.0, 2.0, 1.0, 0.0, 0.0]
+    r = [1.49, 1.49, 1.49, 1.50, 1.51, 1.51, 1.51, 1.50]
+    df = pd.DataFrame({"source": "reference", "method": "lagrange", "step": 1, "increment": 1, "load_factor": 0.0,
+                       "node": np.arange(1, 9), "surface": "table", "theta_deg": theta, "z": 0.0, "r": r,
+                       "sigma_n_pa": -p, "gap_m": -1e-6, "status": "closed",
+                       "area_m2": np.where(corner, 1 / 24, 5 / 24), "force_n": np.where(corner, -p / 12, p / 3)})
+    t = conform(df)
+    assert t.force_n.sum() == pytest.approx(p, rel=1e-12) and (t.force_n[corner] < 0).all()
+    np.testing.assert_allclose(Q.sigma_n_wall(t).to_numpy(), -p, rtol=1e-12)
+    assert Q.free_penetration(t)["free_penetration_m"] == 0.0
+    with pytest.raises(ResultsError, match="Sum force_n"):
+        conform(df.assign(force_n=-df.force_n))

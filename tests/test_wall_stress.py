@@ -6,6 +6,7 @@ import subprocess
 from types import SimpleNamespace
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import deckbridge.base_wall as bwm
@@ -99,6 +100,38 @@ def test_nodal_average_and_through_wall_reduction():
     ri, ro, h = g.radius - g.thickness / 2, g.radius + g.thickness / 2, g.thickness / 3
     quad = bwm.base_wall(mesh.nodes, mesh.hexes[:36], r ** 2)
     np.testing.assert_allclose(quad.mean, (ro ** 3 - ri ** 3) / (3 * g.thickness) + h ** 2 / 6, rtol=1e-12)
+
+
+
+@pytest.mark.parametrize("element, rtol", [("hex20", 2e-5), ("tet10", 5e-4)])
+def test_quadratic_base_section_force_is_the_integral(element, rtol):
+    """On cells with mid-side nodes the wall rows hold the corners only (inner and outer face of a one-cell
+    wall), so their trapezoid mean x area is not the base section's axial force. A stress parabolic through
+    the wall, s = a + c ((r - R) / (t / 2))^2, has int s dA = 2 pi R t (a + c / 3) over the annulus (measured
+    24 x 1 x 1: hex20 9.8e-6 off, the curved faces' area against the circle's; tet10 2.4e-4, s interpolated on
+    the triangles' straight diagonals); the corner rows read a + c, i.e. 2 pi R t (a + c): with
+    c = -a / 2 that is 1.5x the truth. ``BaseWall.force`` integrates every base-face node and is the
+    equilibrium check's resultant (quantities.equilibrium, wall column axial_force_n): against contact rows
+    carrying the true resultant it reads 0 (the old Sum mean x area read 50 %)."""
+    from deckbridge.numbering.skirt import bottom_row_index
+    from deckbridge.quantities import equilibrium
+    model = load(None, [f"mesh.element={element}", "mesh.n_theta=24", "mesh.n_z=1", "mesh.n_r=1"])
+    mesh = build_mesh(model)
+    g = model.geometry
+    a, c = -2.0e7, 1.0e7                                                     # [Pa]
+    r = np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])
+    bottom = mesh.hexes[bottom_row_index(mesh)]
+    bw = bwm.base_wall(mesh.nodes, bottom, a + c * ((r - g.radius) / (g.thickness / 2)) ** 2)
+    truth = 2 * np.pi * g.radius * g.thickness * (a + c / 3)
+    assert bw.force is not None and bw.force.shape == bw.theta_deg.shape
+    np.testing.assert_allclose(bw.force.sum(), truth, rtol=rtol)
+    np.testing.assert_allclose(bw.mean, a + c, rtol=1e-12)                    # corners only: the faces
+    wall = pd.DataFrame({"theta_deg": bw.theta_deg, "szz_mean_pa": bw.mean, "area_m2": 1.0, "axial_force_n": bw.force})
+    area = np.full(bw.theta_deg.size, 2 * np.pi * g.radius * g.thickness / bw.theta_deg.size)
+    rows = pd.DataFrame({"surface": "table", "theta_deg": bw.theta_deg, "sigma_n_pa": truth / area.sum(),
+                         "area_m2": area, "force_n": -truth / area.sum() * area})
+    assert equilibrium(wall, rows)["szz_resultant_residual"] < rtol
+    assert equilibrium(wall.drop(columns="axial_force_n"), rows)["szz_resultant_residual"] > 0.4   # mean x area
 
 
 # --- reference solver on the skirt -------------------------------------------------------------------

@@ -109,7 +109,7 @@ class ComparisonResult:
                            "onset_first_node: the first table slave node opens; onset_section: every through-wall "
                            "node of one azimuth open; each with exact (reference solver), bracket [lambda_i, "
                            "lambda_i+1] of the printed states, interpolated (estimate); zones and peak_compression "
-                           "from the through-wall sigma_n = -Sum force / Sum area per azimuth, peak_node = one node; "
+                           "from the through-wall sigma_n = Sum sigma_n x area / Sum area per azimuth, peak_node = one node; "
                            "zones narrower than one element arc are dropped; liftoff_zone_overlap_tol = overlap "
                            "with a tolerance of one element arc (null: no zone in either)",
             "definitions": {k: {"unit": q.unit, "weighting": q.weighting, "definition": q.definition}
@@ -257,7 +257,7 @@ def state_quantities(rows, record: SourceResult | None, st) -> dict:
                                 **{c: nodes[c].tolist() for c in ("inner", "mid", "outer")}}}
     tb = Q.table_rows(rows)
     r = tb["r"].to_numpy(float)
-    if np.isfinite(r).all() and np.isfinite(tb["force_n"].to_numpy(float)).all() and len(r):
+    if np.isfinite(r).all() and np.isfinite(tb["area_m2"].to_numpy(float)).all() and len(r):
         q = Q.line_load(rows, 0.5 * (r.min() + r.max()))          # at the mid-wall radius
         out["line_load_n_per_m"] = {"theta_deg": q.index.tolist(), "q": q.tolist()}
     wall = None if record is None else record.wall_at(st.step, st.increment, st.load_factor)

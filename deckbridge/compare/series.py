@@ -1,7 +1,7 @@
 """One source's sigma_N(theta) along the load path, from the tidy table.
 
 A *profile* is sigma_N [Pa] at each azimuth of the table surface at one state: the through-wall
-value -Sum force / Sum area of the slave nodes at that azimuth (:func:`deckbridge.quantities.sigma_n_wall`),
+value Sum sigma_N x area / Sum area of the slave nodes at that azimuth (:func:`deckbridge.quantities.sigma_n_wall`),
 with the flag 'every node there is open'. Each state also keeps its rows (node values, areas).
 A *series* is one (source, method): its profiles ordered by load factor lambda, starting with the
 end of step 1 (N only, lambda = 0) and followed by the increments of step 2 (lambda > 0).

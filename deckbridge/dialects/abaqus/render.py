@@ -109,7 +109,8 @@ def _face_pairs(mesh: SkirtMesh, master: str, augmented: bool) -> list[dict]:
     row[tab.nodes] = np.arange(tab.nodes.size)
     base = np.asarray(mesh.base_elems, np.int64)
     slope_node = tab.k / tab.area
-    slope = np.array([slope_node[row[c][row[c] >= 0]].mean() for c in mesh.hexes[base]])
+    rows = [row[c[c >= 0]] for c in mesh.hexes[base]]           # a mixed mesh's cells are padded with -1
+    slope = np.array([slope_node[r[r >= 0]].mean() for r in rows])
     groups = _groups(slope) if augmented else [np.arange(base.size)]
     out = []
     for n, rows in enumerate(groups, start=1):

@@ -13,16 +13,22 @@ these faces the ccx reader reports, as the reference solver does for its face-we
   the transformed Nt = T N, alpha = 1/5, d = int Nt dA): lambda = (T r) / d >= 0, the quantity ccx's law puts
   its sign condition on, and node by node what the reference's ``contact_weighting='face-dual'`` reports
   (``reference/mortar``, :mod:`deckbridge.reference_dual`; docs/mortar_stop.md). Exact (-p) for a uniform
-  pressure p. The rows' areas are then d (:attr:`TableProjection.areas`). (Until round 4 the hat basis of the
+  pressure p. The rows' areas are then d (:attr:`TableProjection.areas`), their gaps the projected gap (D g) / d
+  that ccx's law keeps >= 0 (:meth:`TableProjection.gaps`, :func:`deckbridge.quantities.projected_gap`; the
+  reference's ``gap_m`` of the same rows). (Until round 4 the hat basis of the
   reference's default law, -D_hat^-T r on hat areas: tensile next to the contact edge.) Without a model (no
   faces to build D from) the reader takes ccx's own nodal pressure -CPRESS instead.
 - face-to-face deck (``*_ccx_f2f.inp``, master a wide C3D8 ring, no master node under each slave node):
   sigma_N = -CPRESS of the ``.frd`` CONTACT block (see :func:`f2f_table_sigma`).
 
-The table's force_n is then -sigma_N x the row's area (``area_m2`` = int Phi_a dA of the multiplier basis: d for
-the mortar rows, the hat areas :func:`deckbridge.face_areas.contact_areas` elsewhere), so Sum force_n = Sum r;
-the through-wall sigma_N (:func:`deckbridge.quantities.sigma_n_wall`) = -Sum force / Sum area per azimuth. The
-contact-law check (:mod:`deckbridge.readers._contact_law`) judges these rows by that pressure.
+The rows' ``area_m2`` is int Phi_a dA of the multiplier basis (d for the mortar rows, the hat areas
+:func:`deckbridge.face_areas.contact_areas` elsewhere), so Sum sigma_N x area = -Sum r; the through-wall sigma_N
+(:func:`deckbridge.quantities.sigma_n_wall`) = Sum sigma_N x area / Sum area per azimuth. The table's force_n is the
+row's nodal force as ccx applies it (:data:`deckbridge.quantities.DEFINITIONS`): r = RF . n of the mortar rows;
+NaN on the face-to-face rows and the mortar rows read without a model, where ccx prints a pressure only (CPRESS x
+area is no nodal force there: past liftoff its sum missed N by -0.69 / +0.49 / +0.67 %). The f2f deck's exact
+contact resultant is its clamped master ring's reaction (:func:`.result_files.f2f_master_resultant`). The contact-law check
+(:mod:`deckbridge.readers._contact_law`) judges these rows by the pressure.
 """
 
 from __future__ import annotations
@@ -34,6 +40,7 @@ import scipy.sparse.linalg as spla
 
 from ...errors import DeckbridgeError
 from ...numbering.skirt import mesh_node_ids
+from ...quantities import projected_gap
 
 QUADRATIC_TYPES = ("C3D20", "C3D20R", "C3D10", "C3D15")     # ccx element types with 8- or 6-node faces
 MORTAR_BASIS = "dual"           # the multipliers the reader reports for a mortar job's table: ccx's own
@@ -70,6 +77,13 @@ class TableProjection:
         s = np.zeros(self.order.size)
         s[self.order] = sigma_rows
         return -(self.D.T @ s)[self.order]
+
+    def gaps(self, gap_rows: np.ndarray) -> np.ndarray:
+        """The rows' gaps [m] as ccx's mortar law constrains them, (D g) / d
+        (:func:`deckbridge.quantities.projected_gap`), from their nodal gaps ``gap_rows`` [m] (row order)."""
+        g = np.zeros(self.order.size)
+        g[self.order] = gap_rows
+        return projected_gap(self.D, g)[self.order]
 
     def slaves(self, sl):
         """The reader's slave rows ``sl`` (result_files.Slaves) with :attr:`areas` on the projected rows."""
@@ -112,7 +126,9 @@ def face_neighbours(mesh, node_ids: np.ndarray, table: np.ndarray) -> list[np.nd
 def law_gaps(sigma: np.ndarray, gap: np.ndarray, near: list[np.ndarray]) -> np.ndarray:
     """The gap [m] the contact-law check judges a face-weighted row on (``law_gap_m``): for a pressed row
     (sigma_N < 0) the smallest gap of the nodes of its faces (the face's law carries pressure to every node of a
-    face that is closed anywhere: a quadratic face spans three azimuths), NaN (its own gap_m) elsewhere."""
+    face that is closed anywhere: a quadratic face spans three azimuths), NaN (its own gap_m) elsewhere. ``gap``: the
+    table's gap_m, on mortar rows already the projected gap (D g) / d (:meth:`TableProjection.gaps`), 0 at a
+    pressed row by ccx's law; on face-to-face rows the nodal gap."""
     out = np.full(sigma.size, np.nan)
     for i, rows in enumerate(near):
         if rows.size and sigma[i] < 0:

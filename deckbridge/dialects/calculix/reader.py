@@ -13,11 +13,9 @@ Input: a job's ``.frd``, ``.dat`` or ``.inp``, or a folder holding one or more j
   (pressure p = K x penetration per contact element, in contact-pair order, lifted nodes left out):
   sigma_n = -p A_ccx / A (force k_c x penetration over the model's area; 0 for a node without a row);
 - 8-/6-node faces (C3D20/C3D20R/C3D10/C3D15): table rows as :mod:`.face_rows` (mortar ccx's multipliers, f2f -CPRESS);
-- gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP): COPEN in the
-  ``.frd`` holds penetrations only (mortar enforces contact in a weighted sense: a node next to a
-  lifted one can carry pressure with a small positive nodal gap). status: closed where
-  sigma_n < -1e-6 max|sigma_n| of the increment (mortar's open nodes carry force noise of ~1e-4 Pa;
-  GAPUNI's open nodes the small tension f_inf / A).
+- gap = clearance + n . u from the slave node's displacement (``.dat`` or ``.frd`` DISP; COPEN: penetrations only),
+  on 8-/6-node mortar rows projected, (D g) / d (quantities.projected_gap). status: closed where sigma_n < -1e-6
+  max|sigma_n| of the increment (mortar's open nodes carry force noise ~1e-4 Pa; GAPUNI's the tension f_inf / A).
 
 Nodes map to azimuth/area/normal through the model's mesh when ``model`` is given (ids must be slave nodes
 of that model), else through the ``** deckbridge-slave`` lines the renderer writes into the ``.inp``.
@@ -59,17 +57,14 @@ def detect(path: Path) -> bool:
         if not path.is_file():
             return False
         suffix = path.suffix.lower()
-        if suffix == ".frd":
+        if suffix in (".frd", ".dat", ".inp"):
             with open(path, errors="replace") as fh:
-                head = fh.read(4096)
+                head = fh.read(65536 if suffix == ".dat" else 4096)
+        if suffix == ".frd":
             return "CalculiX" in head
         if suffix == ".dat":
-            with open(path, errors="replace") as fh:
-                head = fh.read(65536)
             return bool(re.search(r"(forces|displacements) \((fx|vx),.*for set .* and time", head))
         if suffix == ".inp":
-            with open(path, errors="replace") as fh:
-                head = fh.read(4096)
             return _META_JOB in head and "CalculiX" in head
     except OSError:
         return False
@@ -82,7 +77,6 @@ def _jobs_in(folder: Path) -> list[Path]:
     return sorted(s for s in stems if any(detect(s.with_suffix(x)) for x in (".frd", ".dat")))
 
 
-# --- assembly -----------------------------------------------------------------------------------------
 def _method_of(stem: Path, job: dict) -> str:
     if job.get("method") in (PENALTY, "mortar", "f2f"):
         return job["method"]
@@ -191,7 +185,8 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
     ground = _ground_nodes(stem, sl, gap_rows, gaps, method, model, mesh)
     force_of = np.where(gap_rows, ground, sl.node)          # whose RF gives the contact force
 
-    sigmas, origins, own = {}, {}, {}
+    sigmas, origins, own, nodal = {}, {}, {}, {}
+    unknown = (table & f2f_cpress) | (mortar_rows & quad & (table_from == "cpress"))   # a pressure, no nodal force
     near = (None if not quad else face_neighbours(mesh, sl.node, table) if model is not None
             else column_neighbours(sl.theta, table))
     for step, t in sorted(set(forces) | (set(cpress) if table_from == "cpress" or f2f_cpress else set())):
@@ -207,8 +202,9 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
                                       f"slave node {int(sl.node[i])}) at time {t:g}: results of another model?")
             sigma[i] = -float(rf @ sl.normal[i]) / sl.area[i]
             origin[i] = rf_at.get(int(force_of[i]))
+        force = np.where(unknown, np.nan, -sigma * sl.area)      # RF . n of the rows read from RF (NaN: not yet)
         if project is not None:         # the rows' normal forces r = -sigma A, projected to a pressure
-            sigma[project.rows] = project.sigma(-sigma[project.rows] * sl.area[project.rows])
+            sigma[project.rows] = project.sigma(force[project.rows])
             cp = cpress.get((step, t))          # the law's own pressure, judged by the contact-law check
             own[(step, t)] = np.full(sl.node.size, np.nan)
             if cp is not None:
@@ -226,8 +222,9 @@ def _read_job(stem: Path, model, table_from: str = "rf", mesh=None) -> pd.DataFr
                 sigma[i] = -cp[int(sl.node[i])]
                 origin[i] = cp_at.get(int(sl.node[i]))
         sigmas[(step, t)], origins[(step, t)] = sigma, origin
+        nodal[(step, t)] = np.where(np.isnan(force) & ~unknown, -sigma * sl.area, force)    # CPRESS x A: 4-node
     sl = sl if project is None else project.slaves(sl)          # their areas: the multipliers' shares d
-    return _frames(sl, method, lam, sigmas, disp, stem, origins, law_sigmas=own or None, near=near)
+    return _frames(sl, method, lam, sigmas, disp, stem, origins, law_sigmas=own or None, near=near, forces=nodal, project=project)
 
 
 def _n2f_sigma(stem: Path, sl: Slaves, job: dict, model, contact: dict, contact_gap: dict | None = None, mesh=None):
@@ -286,11 +283,12 @@ def _at(path: Path, line: int) -> str:
 
 def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem: Path,
             origins: dict | None = None, law_gaps: dict | None = None, law_sigmas: dict | None = None,
-            near: list | None = None) -> pd.DataFrame:
-    """The tidy table from sigma_n per (step, time) and the slave displacements; ``origins``: per
-    (step, time) the file and line of each row's value (column ``origin``, dropped after the checks);
+            near: list | None = None, forces: dict | None = None, project=None) -> pd.DataFrame:
+    """The tidy table from sigma_n per (step, time) and the slave displacements; ``forces``: per (step, time) the
+    rows' force_n (default -sigma_n x area); ``origins``: per (step, time) the file and line of each row's value
+    (column ``origin``, dropped after the checks);
     ``law_gaps`` / ``law_sigmas``: the solver's own gap / pressure per row for the contact-law check; ``near``:
-    per row the rows of its table faces (quadratic faces: law_gap_m of pressed rows, face_rows.law_gaps)."""
+    per row the rows of its table faces (law_gap_m, face_rows.law_gaps); ``project``: gap_m (D g) / d of its rows."""
     frames, counters = [], {}
     for step, t in sorted(sigmas):
         sigma, d_t = sigmas[(step, t)], disp.get((step, t), {})
@@ -299,6 +297,8 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
             u = d_t.get(int(sl.node[i]))
             if u is not None:
                 gap[i] = sl.clearance[i] + float(u[:3] @ sl.normal[i])
+        if project is not None:         # quadratic mortar rows: the gap ccx's law constrains
+            gap[project.rows] = project.gaps(gap[project.rows])
         counters[step] = counters.get(step, 0) + 1
         law_gap = law_gaps[(step, t)] if law_gaps else (face_law_gaps(sigma, gap, near) if near else None)
         law_sigma = (law_sigmas or {}).get((step, t))
@@ -309,7 +309,7 @@ def _frames(sl: Slaves, method: str, lam: float, sigmas: dict, disp: dict, stem:
             "gap_m": gap, "status": np.where(sigma < -STATUS_TOL * np.nanmax(np.abs(sigma)), "closed", "open"),
             **({"origin": origins[(step, t)]} if origins else {}),
             **({"law_gap_m": law_gap} if law_gap is not None else {}),
-            **({"law_sigma_pa": law_sigma} if law_sigma is not None else {})}), sl.area))
+            **({"law_sigma_pa": law_sigma} if law_sigma is not None else {})}), sl.area, (forces or {}).get((step, t))))
     if not frames:
         raise DeckbridgeError(f"{str(stem)!r}: no contact results in the ccx files")
     return pd.concat(frames, ignore_index=True)

@@ -52,7 +52,7 @@ from ...numbering.inp import FACE_TOP, Layout
 from .numbering import GapIds, ccx_gaps, ccx_layout, ccx_n2f_groups, ccx_node_slave_areas, ccx_penalty_is_n2f
 from ...units import scale
 from ...numbering.skirt import elem_ids, mesh_node_ids, mesh_node_index
-from ...deck_elements import base_faces, corner_spring_k, face_label_lines, quadratic_face_slopes
+from ...deck_elements import QUADRATIC_ELEMENTS, base_faces, corner_spring_k, face_label_lines, quadratic_face_slopes
 from .quadratic_master import f2f_ring, pair_masters
 from ...render._env import deck_paths, render
 from ...render.inp_cards import (clean, element_lines, face_lines, id_lines, node_block, real, reals, shared_context,
@@ -373,9 +373,9 @@ def write(model: Model, mesh: SkirtMesh, outdir: Path) -> list[Path]:
             continue
         if method == "penalty" and mesh.quadratic_faces:   # node-to-surface / GAPUNI: node-based (issue 23)
             continue
-        if method != "mortar" and mesh.blocks:             # a mixed mesh: the mortar deck only (so far)
-            continue
-        if method == "f2f" and mesh.element not in ("c3d8", "c3d8i", "c3d20", "c3d20r", "c3d10", "c3d15"):
+        if mesh.blocks and method != "mortar" and not (method == "f2f" and mesh.quadratic_faces):
+            continue          # a mixed mesh: the mortar deck, and on second order the face-to-face deck too
+        if method == "f2f" and not all(t in ("c3d8", "c3d8i", *QUADRATIC_ELEMENTS) for t in mesh.element.split("+")):
             continue
         text = render(RECORD.templates, tpl, **ctx_fn(model, mesh))
         p = paths[method]

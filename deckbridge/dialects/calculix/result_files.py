@@ -16,6 +16,7 @@ from ...mesh import build_mesh
 from ...numbering.skirt import mesh_node_ids
 from ...errors import read_text
 from ...readers._files import INP_UNITS_TAG
+from ...units import scale
 from .face_rows import QUADRATIC_TYPES
 
 _DAT_HEAD = re.compile(r"^\s*(forces|displacements) \((?:fx|vx)[^)]*\) for set (\S+) and time\s+(\S+)")
@@ -224,3 +225,34 @@ def _on_frd_time(t: float, frd_times: np.ndarray) -> float:
         if abs(frd_times[k] - t) <= TIME_DIGITS_TOL * max(1.0, abs(t)):
             return float(frd_times[k])
     return t
+
+
+MASTER_SETS = ("NMTOP", "NMCOPY")      # the f2f deck's clamped master nodes whose RF it prints (templates/calculix)
+
+
+def f2f_master_resultant(inp) -> dict[float, tuple[np.ndarray, np.ndarray]]:
+    """The exact contact resultant of a face-to-face job (``inp``: its deck; the ``.dat`` and ``.frd`` beside it)
+    on 8-/6-node faces, per printed ccx time [s] (the ``.frd``'s): (force (3,) [N], moment (3,) [N m] about the
+    origin), SI, the table's force on the skirt (z > 0 pushes it up: = Sum of the rows' nodal forces).
+
+    ccx prints no nodal contact force of the slave nodes; the master ring (NMTOP, NMCOPY) has every node fixed,
+    so its elements stay unstrained and the reactions RF at its nodes are the contact forces on the master,
+    consistent over its bilinear faces: their sum and moment are the contact resultant's to the printed digits.
+    Needs the deck's ``*NODE PRINT`` RF of both sets."""
+    inp = Path(inp)
+    u = scale(_read_meta(inp)[0].get("units") or "SI")
+    coords, frd_blocks = _frd_blocks(inp.with_suffix(".frd"))
+    times = np.array(sorted({b["time"] for b in frd_blocks}))
+    out: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+    for b in _dat_blocks(inp.with_suffix(".dat")):
+        if b["kind"] == "forces" and b["set"] in MASTER_SETS and b["values"]:
+            nodes = list(b["values"])
+            f = np.array([b["values"][n] for n in nodes]) / u.force
+            x = np.array([coords[n] for n in nodes]) / u.length
+            t = _on_frd_time(b["time"], times)
+            F, M = out.get(t, (np.zeros(3), np.zeros(3)))
+            out[t] = (F + f.sum(axis=0), M + np.cross(x, f).sum(axis=0))
+    if not out:
+        raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
+                              f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
+    return out

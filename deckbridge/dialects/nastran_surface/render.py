@@ -40,11 +40,11 @@ from pathlib import Path
 import numpy as np
 from pyNastran.bdf.field_writer_8 import print_card_8
 
-from reference_solver.elements import element_type
-
+from ...deck_elements import cell_types
 from ...errors import DeckbridgeError
 from ...importers.node_order import NASTRAN_TO_CCX
 from ...mesh import SkirtMesh
+from ...mesh_data import element_key
 from ...model import Model
 from ...numbering.nastran import clean_xyz, ground_distance, numbering
 from ...numbering.skirt import elem_ids, max_elem_id, max_node_id, mesh_node_ids
@@ -59,6 +59,7 @@ BCSET_ID = 1
 REGION_TABLE_SOURCE, REGION_TABLE_TARGET, REGION_STOP_SOURCE, REGION_STOP_TARGET = 1, 2, 3, 4
 SKIRT_CARDS = {"c3d20": "CHEXA, 20 grids", "c3d20r": "CHEXA, 20 grids", "c3d10": "CTETRA, 10 grids",
                "c3d15": "CPENTA, 15 grids"}
+LAYER_CARDS = {8: "CHEXA (20 grids)", 6: "CPENTA (15 grids)"}     # the table layer's cell under a quad8 / tri6 face
 HEX_FACES = ((0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
 
 
@@ -68,10 +69,10 @@ class Layer:
 
     ``source``: (element index of the skirt, the face's skirt node indices: 4, or 8 / 6 on quadratic faces,
     corners first) per face; ``target``: (layer element index, the layer node indices of the face it sees).
-    ``hexes``: the layer cells (8-node CHEXA; on quadratic faces 20-node CHEXA or 15-node CPENTA in CalculiX node
-    order, :func:`nastran_order` writes them). ``xyz`` [m]."""
+    ``hexes``: the layer cells (8-node CHEXA; on quadratic faces 20-node CHEXA or 15-node CPENTA, a mixed mesh both,
+    in CalculiX node order, :func:`nastran_order` writes them). ``xyz`` [m]."""
     xyz: np.ndarray
-    hexes: np.ndarray
+    hexes: np.ndarray | list      # a list of cells on quadratic faces (20 and 15 grids on a mixed mesh)
     source: list[tuple[int, tuple[int, ...]]]
     target: list[tuple[int, tuple[int, ...]]]
 
@@ -157,7 +158,9 @@ def layer_thickness(mesh: SkirtMesh) -> float:
     if not getattr(mesh, "quadratic_faces", False):
         return ground_distance(mesh)
     z = mesh.nodes[:, 2]
-    return float(np.median(np.ptp(z[mesh.hexes[np.asarray(mesh.base_elems, np.int64)]], axis=1)))
+    cells = mesh.hexes[np.asarray(mesh.base_elems, np.int64)]
+    cells = np.where(cells < 0, cells[:, :1], cells)       # a mixed mesh's padded cells (-1): their first node
+    return float(np.median(np.ptp(z[cells], axis=1)))
 
 
 def nastran_order(conn) -> list[int]:
@@ -176,31 +179,31 @@ def _reverse(face: np.ndarray, n_corners: int) -> np.ndarray:
     return np.array([c[0]] + c[1:][::-1] + m[::-1], np.int64)
 
 
-def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
+def _quadratic_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> list[np.ndarray]:
     """For each element, its one face whose every node is a slave (the table faces of a quadratic skirt), in the
-    element's face order (corners cyclic, then mid-sides)."""
-    et = element_type(mesh.element)
+    element's face order (corners cyclic, then mid-sides); a list (a mixed mesh's faces: 8 and 6 nodes)."""
+    types = cell_types(mesh)                               # a mixed mesh: each cell's own faces
     slave = np.zeros(mesh.n_nodes, bool)
     slave[slaves] = True
     out = []
     for e in elems:
-        hit = [mesh.hexes[e, list(f)] for f in et.faces if slave[mesh.hexes[e, list(f)]].all()]
+        hit = [mesh.hexes[e, list(f)] for f in types[e].faces if slave[mesh.hexes[e, list(f)]].all()]
         if len(hit) != 1:
             raise DeckbridgeError(f"mesh: element {e} has {len(hit)} faces made of slave nodes (needs one)")
         out.append(hit[0])
-    return np.array(out, np.int64)
+    return out
 
 
 def _quadratic_wall_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray) -> np.ndarray:
     """For each element, its one 8-node face with a horizontal normal (from its corners) holding two or more slave
-    nodes: the stop-side wall face of a first-row 20-node hexahedron or 15-node wedge."""
-    et = element_type(mesh.element)
+    nodes: the stop-side wall face of a first-row 20-node hexahedron or 15-node wedge (a mixed mesh: either)."""
+    types = cell_types(mesh)
     slave = np.zeros(mesh.n_nodes, bool)
     slave[slaves] = True
     out = []
     for e in elems:
         hit = []
-        for f in et.faces:
+        for f in types[e].faces:
             q = mesh.hexes[e, list(f)]
             if len(q) != 8:
                 continue
@@ -214,15 +217,15 @@ def _quadratic_wall_faces(mesh: SkirtMesh, elems: np.ndarray, slaves: np.ndarray
     return np.array(out, np.int64)
 
 
-def _extrude_quadratic(mesh: SkirtMesh, elems: np.ndarray, faces: np.ndarray, offset: np.ndarray,
+def _extrude_quadratic(mesh: SkirtMesh, elems: np.ndarray, faces, offset: np.ndarray,
                        thick: np.ndarray) -> Layer:
-    """A layer of quadratic cells under quadratic ``faces`` (n, 8: quad8 -> 20-node CHEXA; n, 6: tri6 -> 15-node
-    CPENTA): near grids at node + offset, far grids at node + offset + thick (every face node, [m]), and a vertical
-    mid-side grid at node + offset + thick / 2 of every corner; the near face turned so that the cell's volume is
-    positive (G1-G4 counter-clockwise seen from the far face, as the 8-node layer)."""
-    nc = 4 if faces.shape[1] == 8 else 3
-    nodes = np.unique(faces)
-    corners = np.unique(faces[:, :nc])
+    """A layer of quadratic cells under quadratic ``faces`` (each 8 nodes: quad8 -> 20-node CHEXA, or 6: tri6 ->
+    15-node CPENTA; a mixed mesh has both): near grids at node + offset, far grids at node + offset + thick (every
+    face node, [m]), and a vertical mid-side grid at node + offset + thick / 2 of every corner; the near face turned
+    so that the cell's volume is positive (G1-G4 counter-clockwise seen from the far face, as the 8-node layer)."""
+    faces = [np.asarray(f, np.int64) for f in faces]
+    nodes = np.unique(np.concatenate(faces))
+    corners = np.unique(np.concatenate([f[:len(f) // 2] for f in faces]))
     pos = {int(n): i for i, n in enumerate(nodes)}
     vpos = {int(n): 2 * nodes.size + i for i, n in enumerate(corners)}
     x0 = mesh.nodes[nodes]
@@ -232,6 +235,7 @@ def _extrude_quadratic(mesh: SkirtMesh, elems: np.ndarray, faces: np.ndarray, of
     xyz = np.vstack([near, far, xc])
     cells, target = [], []
     for k, f in enumerate(faces):
+        nc = len(f) // 2
         v = xyz[[pos[int(n)] for n in f[:nc]]]
         d = thick[f[0]]
         turn = np.cross(v[1] - v[0], v[-1] - v[0]) @ d
@@ -242,7 +246,7 @@ def _extrude_quadratic(mesh: SkirtMesh, elems: np.ndarray, faces: np.ndarray, of
         cells.append(np.array(a[:nc] + b[:nc] + a[nc:] + b[nc:] + vert))     # CalculiX C3D20 / C3D15 order
         target.append((k, tuple(a)))
     src = [(int(e), tuple(int(n) for n in f)) for e, f in zip(elems, faces)]
-    return Layer(xyz, np.array(cells), src, target)
+    return Layer(xyz, cells, src, target)
 
 
 def largest_id(mesh: SkirtMesh) -> int:
@@ -250,7 +254,7 @@ def largest_id(mesh: SkirtMesh) -> int:
     num = numbering(mesh)
     table, stop = layers(mesh)
     n_grid = table.xyz.shape[0] + (0 if stop is None else stop.xyz.shape[0])
-    n_hex = table.hexes.shape[0] + (0 if stop is None else stop.hexes.shape[0])
+    n_hex = len(table.hexes) + (0 if stop is None else len(stop.hexes))
     return max(num.node_offset + n_grid, num.elem_offset + n_hex, num.spring_base + mesh.table.nodes.size,
                num.rigid_eid, max_node_id(mesh), max_elem_id(mesh))
 
@@ -286,8 +290,9 @@ def surface_bulk(model: Model, mesh: SkirtMesh) -> tuple[nc.Bulk, dict]:
         b.put("grids", bdf.add_grid(int(ids[i]), xyz=[float(c) * u.length for c in xyz], cp=0, cd=int(cd[i])))
     b.put("ref_grid", bdf.add_grid(num.ref_node, xyz=nc.clean(np.asarray(mesh.ref_point) * u.length), cp=0, cd=0))
     eids = elem_ids(mesh, np.arange(mesh.hexes.shape[0]))
-    for e, h in zip(eids, mesh_node_ids(mesh, mesh.hexes)):
-        b.put("hexas", _solid(bdf, int(e), nc.PID_SOLID, h))
+    used = mesh.hexes >= 0                                 # a mixed mesh's cells are padded with -1
+    for e, h, keep in zip(eids, mesh_node_ids(mesh, np.where(used, mesh.hexes, 0)), used):
+        b.put("hexas", _solid(bdf, int(e), nc.PID_SOLID, h[keep]))
 
     table, stop = layers(mesh)
     next_grid, next_elem = num.node_offset + 1, num.elem_offset + 1
@@ -298,7 +303,7 @@ def surface_bulk(model: Model, mesh: SkirtMesh) -> tuple[nc.Bulk, dict]:
         if lay is None:
             continue
         gid = next_grid + np.arange(lay.xyz.shape[0])
-        hid = next_elem + np.arange(lay.hexes.shape[0])
+        hid = next_elem + np.arange(len(lay.hexes))
         next_grid, next_elem = int(gid[-1]) + 1, int(hid[-1]) + 1
         for g, xyz in zip(gid, clean_xyz(lay.xyz)):
             b.put("layer_grids", bdf.add_grid(int(g), xyz=[float(c) * u.length for c in xyz], cp=0, cd=0))
@@ -325,7 +330,9 @@ def surface_bulk(model: Model, mesh: SkirtMesh) -> tuple[nc.Bulk, dict]:
         nc.add_circumferential_springs(b, mesh, u, grounded=True)
     nc.add_coupling(b, model, mesh, u)
     nc.add_loads(b, model, mesh, u, (nc.LOAD_STEP1, nc.LOAD_LINEAR))
-    facts = {"n_table_faces": len(table.source), "n_stop_faces": 0 if stop is None else len(stop.source),
+    facts = {"n_table_faces": len(table.source),
+             "layer_faces": sorted({len(f) for _, f in table.source}, reverse=True),
+             "n_stop_faces": 0 if stop is None else len(stop.source),
              "maxd": [f"{m:.6g}" for m in maxd], "h": f"{h * u.length:.6g}",
              "stop_side": model.contact.stop.side}
     return b, facts
@@ -345,11 +352,11 @@ def deck_text(model: Model, mesh: SkirtMesh) -> str:
         friction=f"{model.contact.friction:g}", tangential=nc.tangential(model), spc_sid=nc.SPC_SID,
         bcset=BCSET_ID, load_step1=nc.LOAD_STEP1, load_step2=nc.LOAD_LINEAR, cid_cyl=nc.CID_CYL,
         n_grids=mesh.n_nodes, n_hexa=mesh.hexes.shape[0], load_introduction=model.load_introduction,
-        quadratic=getattr(mesh, "quadratic_faces", False), element=model.mesh.element,
-        skirt_cards=SKIRT_CARDS.get(getattr(mesh, "element", ""), ""),
+        quadratic=getattr(mesh, "quadratic_faces", False), element=" = ".join(element_key(model, mesh)),
+        skirt_cards=" + ".join(SKIRT_CARDS.get(t, "") for t in getattr(mesh, "element", "").split("+")),
         layer_cell=("CHEXA" if not getattr(mesh, "quadratic_faces", False) else
-                    "CHEXA" if mesh.element in ("c3d20", "c3d20r") else "CPENTA"),
-        layer_cards="CHEXA (20 grids)" if getattr(mesh, "element", "") in ("c3d20", "c3d20r") else "CPENTA (15 grids)",
+                    " or ".join(LAYER_CARDS.get(n, "CHEXA").split()[0] for n in facts["layer_faces"])),
+        layer_cards=" and ".join(LAYER_CARDS.get(n, "CHEXA (8 grids)") for n in facts["layer_faces"]),
         cards={g: _text(b, g) for g in b.groups}, **facts)
 
 
