@@ -7,13 +7,22 @@ base faces, pressure K max(0, -g), the same slope per face), so that the two are
 The reference's nodal penalty (``reference/penalty``) stays the partner of the node-to-surface deck.
 Rows: the tidy schema of :func:`deckbridge.solve.contact_table`, method ``f2f`` (sigma_N = -F / A on 4-node
 faces, as the ccx reader's), with the base-wall sigma_zz table.
+
+On 8-/6-node faces the two series' sigma_N are two different readings of one pressure field (ccx: CPRESS, the
+integration-point pressure extrapolated to the nodes; the reference: the hat-basis projection -D^-T r), which
+differ by up to a quarter of the peak next to the contact edge while the solutions agree (docs/ccx_f2f.md). What
+both give exactly is the contact force on the deck's master ring (``quadratic_master.f2f_ring``: clamped C3D8,
+one face per azimuth interval, nodes at the skirt's azimuths 360 j / n_theta): :func:`ring_line_forces` is the
+reference's side of it, ``result_files.f2f_master_lines`` ccx's (its printed RF).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from reference_solver.face_penalty import face_weighted
+import numpy as np
+
+from reference_solver.face_penalty import FaceIntegration, face_weighted
 
 from .methods import PENALTY
 from .results import SourceResult
@@ -39,3 +48,35 @@ def f2f_series(model, mesh, system, origin: str) -> SourceResult:
     df["method"] = METHOD
     summary["method"] = METHOD
     return SourceResult(df, origin, summary=summary, wall=reference_wall(face, mesh, sol))
+
+
+def ring_lines(xyz: np.ndarray, n_theta: int) -> tuple[np.ndarray, np.ndarray]:
+    """(j, s) of points ``xyz`` (n, 3) [m] on the face-to-face deck's master ring of ``n_theta`` faces: the
+    point lies on face j (between the ring's azimuth lines j and j + 1, at 360 j / n_theta deg) at natural
+    coordinate s in [0, 1] along it. The ring's faces are trapezoids between two radial lines whose chords are
+    parallel, so the bilinear map's lines of constant s are rays from the axis: s follows from the azimuth alone,
+    tan(phi) = (2 s - 1) tan(pi / n_theta), phi the azimuth from the face's bisector. A force at the point goes
+    to the nodes of line j with the weight 1 - s and to those of line j + 1 with s (the C3D8 shape functions)."""
+    d = 2.0 * np.pi / n_theta
+    th = np.arctan2(xyz[:, 1], xyz[:, 0]) % (2.0 * np.pi)
+    j = np.floor(th / d).astype(int) % n_theta
+    s = 0.5 * (np.tan(th - (j + 0.5) * d) / np.tan(d / 2) + 1.0)
+    return j, np.clip(s, 0.0, 1.0)
+
+
+def ring_line_forces(problem, gaps: np.ndarray, n_theta: int, k_factor: float = 1.0) -> np.ndarray:
+    """The face-integrated penalty's contact force [N] (> 0 pressing the skirt up) on each azimuth line of the
+    ccx face-to-face deck's master ring (:func:`ring_lines`): per state (row of ``gaps``, (states, rows) the
+    nodal gaps [m] of ``problem``'s contact rows, the reference table's gap_m), sum over the law's integration
+    points (:class:`reference_solver.face_penalty.FaceIntegration`) of the point force K_eff w (-g) spread with
+    the ring's shape functions; ccx's RF of the ring's top nodes summed per line is the same quantity. Rows off
+    the faces (a radial stop) carry none."""
+    fi = FaceIntegration(problem)
+    j, s = ring_lines(fi.xyz, n_theta)
+    gp = np.atleast_2d(gaps) @ fi.G.T                                        # (states, points) [m]
+    f = -gp * k_factor * np.where(gp <= 0, 1.0, problem.k_open_ratio) * fi.w  # [N] per point
+    out = np.zeros((gp.shape[0], n_theta))
+    for k in range(gp.shape[0]):
+        np.add.at(out[k], j, f[k] * (1.0 - s))
+        np.add.at(out[k], (j + 1) % n_theta, f[k] * s)
+    return out

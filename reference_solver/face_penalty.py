@@ -90,12 +90,12 @@ def face_points(face_name: str) -> tuple[np.ndarray, np.ndarray]:
 
 class FaceIntegration:
     """The integration points of a problem's contact faces: G (npts x nc) interpolates the row gaps to the
-    points, ``w`` (npts,) = K |J| w_nat [N/m] (the point's slope times its area), ``on_face`` marks the rows
-    on a face (the others keep nodal springs)."""
+    points, ``w`` (npts,) = K |J| w_nat [N/m] (the point's slope times its area), ``xyz`` (npts, 3) [m] their
+    places on the undeformed faces, ``on_face`` marks the rows on a face (the others keep nodal springs)."""
 
     def __init__(self, p):
         nc = p.n_contacts
-        rows, cols, vals, weights = [], [], [], []
+        rows, cols, vals, weights, places = [], [], [], [], []
         self.on_face = np.zeros(nc, bool)
         self.quadratic = False
         npts = 0
@@ -121,6 +121,7 @@ class FaceIntegration:
                 cols.append(np.broadcast_to(r[:, None, :], (nf, ng, k)).ravel())
                 vals.append(np.broadcast_to(N[None], (nf, ng, k)).ravel())
                 weights.append((K[:, None] * J * wn[None]).ravel())
+                places.append(np.einsum("pa,fad->fpd", N, xyz).reshape(-1, 3))
                 npts += nf * ng
                 self.on_face[r.ravel()] = True
                 self.quadratic |= ftype.n_nodes > ftype.n_corners
@@ -128,6 +129,7 @@ class FaceIntegration:
                                 (np.concatenate(rows) if rows else np.zeros(0, int),
                                  np.concatenate(cols) if cols else np.zeros(0, int))), shape=(npts, nc))
         self.w = np.concatenate(weights) if weights else np.zeros(0)
+        self.xyz = np.concatenate(places) if places else np.zeros((0, 3))
 
     def nodal_k(self) -> np.ndarray:
         """The stiffness of each row under a uniform penetration, sum over points of N_a w [N/m] (k_c,a on

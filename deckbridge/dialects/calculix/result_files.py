@@ -256,3 +256,29 @@ def f2f_master_resultant(inp) -> dict[float, tuple[np.ndarray, np.ndarray]]:
         raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
                               f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
     return out
+
+
+def f2f_master_lines(inp, n_theta: int) -> dict[float, np.ndarray]:
+    """Per printed ccx time [s]: the contact force [N] (> 0 pressing the skirt up) on each azimuth line j
+    (360 j / n_theta deg) of a face-to-face job's master ring on 8-/6-node faces (``inp``: its deck): the z RF
+    of the ring's top nodes (NMTOP, NMCOPY) at that azimuth summed, SI. Exact like
+    :func:`f2f_master_resultant` (clamped ring: RF is the contact force on its nodes), and what the reference
+    gives as :func:`deckbridge.reference_f2f.ring_line_forces`; unlike CPRESS, no extrapolation."""
+    inp = Path(inp)
+    u = scale(_read_meta(inp)[0].get("units") or "SI")
+    coords, frd_blocks = _frd_blocks(inp.with_suffix(".frd"))
+    times = np.array(sorted({b["time"] for b in frd_blocks}))
+    out: dict[float, np.ndarray] = {}
+    for b in _dat_blocks(inp.with_suffix(".dat")):
+        if b["kind"] == "forces" and b["set"] in MASTER_SETS and b["values"]:
+            nodes = list(b["values"])
+            fz = np.array([b["values"][n][2] for n in nodes]) / u.force
+            x = np.array([coords[n] for n in nodes])
+            j = np.rint((np.arctan2(x[:, 1], x[:, 0]) % (2 * np.pi)) * n_theta / (2 * np.pi)).astype(int) % n_theta
+            t = _on_frd_time(b["time"], times)
+            acc = out.setdefault(t, np.zeros(n_theta))
+            np.add.at(acc, j, fz)
+    if not out:
+        raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
+                              f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
+    return out
