@@ -30,6 +30,7 @@ from reference_solver.recover import path_fields
 from . import summary_keys as K
 from .compare import compare_tables
 from .compare.onsets import describe
+from .compare.ring_lines import ring_line_text
 from .dialects import DIALECTS
 from .friction_table import friction_table
 from .methods import LAGRANGE, NAMES, PENALTY
@@ -128,7 +129,8 @@ def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: flo
                            and echo(f"  {d.source} {line}"))
             echo(f"{d.source}: {job.name} finished in {time.perf_counter() - t_run:.1f} s")
             table = read(result, fmt=d.reader, model=model, mesh=mesh)
-            tables.append(SourceResult(table, str(job), wall=d.wall(result, model, mesh)))
+            tables.append(SourceResult(table, str(job), wall=d.wall(result, model, mesh),
+                                       ring_lines=d.ring_lines(result, model, mesh)))
             if model.outputs.vtu:       # ParaView series (CalculiX: <job>.pvd + <job>_NNN.vtu)
                 d.write_series(job, model, run_dir, mesh, table)
             origins.append(str(job))
@@ -153,6 +155,8 @@ def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: flo
                 echo(f"  warning: lambda = {pt.load_factor:.4g}: table node(s) {ex['free_penetration_nodes']} "
                      f"penetrate up to {ex['free_penetration_m'] * 1e3:.3g} mm with no contact force "
                      "(the solver's contact search missed them?)")
+    for line in ring_line_text(result):         # ccx f2f on 8-/6-node faces: the exact comparison beside sigma_N
+        echo(line)
     paths = write_report_with_verdict(result, out, model=model, extra={"condensed": (mesh, system)})  # reused
     report = out / "report.html"
     echo(f"report: {report} ({time.perf_counter() - t0:.1f} s in all)")

@@ -53,6 +53,7 @@ import pandas as pd
 
 from .azimuth import arc_weights, periodic_interp, snap_deg
 from .methods import LAGRANGE
+from .summary_keys import RING_LINE_FORCE_MAX_DIFF
 
 CLAIM_QUANTITIES = ("sigma_n_wall_pa", "szz_inner_pa", "szz_outer_pa", "szz_mean_pa")   # judged by the paper's claims (studies/claims.py)
 
@@ -61,6 +62,9 @@ TENSION_WARN = 0.01           # open-gap tension warned above this fraction of t
 PENETRATION_WARN = 0.1        # force-free penetration warned above this fraction of a loaded node's largest
 PENETRATION_FLOOR = 1e-6      # ... and above this fraction of the largest node radius (round-off, mortar edges)
 SMALL_STRAIN_LIFT = 0.01      # lift / R above which a small-strain answer is past its range (REFERENCE.md §8)
+RING_LINE_WHY = ("on 8-/6-node faces the two nodal sigma_N are two readings of one pressure field that part at the "
+                 "contact edge: ccx's is CPRESS, the integration-point pressure extrapolated to the nodes, the "
+                 "reference's the hat-basis projection -D^-T r; the ring's line forces are exact on both sides")
 
 
 @dataclass(frozen=True)
@@ -123,6 +127,15 @@ DEFINITIONS = {q.key: q for q in [
     Quantity("tangential_resultant_n", "N", "none (vector sum)",
              "resultant of the tangential forces of the contact rows (table on body, global x, y, z); "
              "with no stop in contact it balances the applied shear: Sum F_t = -T lambda"),
+    Quantity("ring_line_force_n", "N", "the ring's C3D8 shape functions (a contact force at azimuth s of a face goes "
+             "1 - s / s to its two lines)",
+             "ccx face-to-face on 8-/6-node faces and its partner reference/f2f: the contact force on one azimuth line "
+             "j (360 j / n_theta deg) of the deck's clamped C3D8 master ring, > 0 pressing the skirt up: ccx's RF of "
+             "the ring's top nodes summed per line, the reference's integration-point forces K w (-g) spread with the "
+             "ring's shape functions; exact on both sides (no nodal extrapolation), unlike their nodal sigma_N"),
+    Quantity(RING_LINE_FORCE_MAX_DIFF, "1", "none (largest over the lines, then over the states)",
+             "ccx/f2f vs reference/f2f on 8-/6-node faces: max_j |F_j(b) - F_j(a)| / max_j |F_j(a)| of "
+             "ring_line_force_n (ring_line_rel_diff), largest over their common states with lift/R <= 0.01"),
     Quantity("contact_resultant_n", "N", "none (vector sum)",
              "resultant of the whole contact forces F_n n + F_t of every row (table and stop, on the body); "
              "balances the applied loads: its horizontal part = -T lambda"),
@@ -340,3 +353,10 @@ def beam_theory_sigma(N: float, M_b: float, R: float, t: float, theta_rel_deg) -
     tension side (full contact, beam theory)."""
     c = np.cos(np.radians(np.asarray(theta_rel_deg, float)))
     return -N / (2 * np.pi * R * t) + M_b * c / (np.pi * R * R * t)
+
+
+def ring_line_rel_diff(a: np.ndarray, b: np.ndarray) -> float:
+    """max_j |b_j - a_j| / max_j |a_j| of two ring_line_force_n arrays [N] of one state (0 where a is all 0)."""
+    scale = float(np.abs(a).max()) if np.size(a) else 0.0
+    return 0.0 if scale == 0.0 else float(np.abs(np.asarray(b) - np.asarray(a)).max() / scale)
+

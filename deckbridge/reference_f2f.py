@@ -25,6 +25,7 @@ import numpy as np
 from reference_solver.face_penalty import FaceIntegration, face_weighted
 
 from .methods import PENALTY
+from .numbering.skirt import mesh_node_ids
 from .results import SourceResult
 from .solve import solve_system
 from .wall_stress import reference_wall
@@ -47,7 +48,23 @@ def f2f_series(model, mesh, system, origin: str) -> SourceResult:
     df, summary, sol = solve_system(model, mesh, face, PENALTY, recover=True)
     df["method"] = METHOD
     summary["method"] = METHOD
-    return SourceResult(df, origin, summary=summary, wall=reference_wall(face, mesh, sol))
+    lines = table_ring_lines(face.problem, mesh, df) if mesh.quadratic_faces else None
+    return SourceResult(df, origin, summary=summary, wall=reference_wall(face, mesh, sol), ring_lines=lines)
+
+
+def table_ring_lines(problem, mesh, table) -> dict[float, np.ndarray]:
+    """{load factor: :func:`ring_line_forces` [N] per azimuth line} of a reference/f2f contact table (its rows'
+    gap_m, SI) on ``problem`` (face-weighted contact rows) and ``mesh`` (n_theta lines); step 2's increment 0
+    repeats step 1's end (load factor 0) and is left out."""
+    rows = dict(zip(zip(mesh_node_ids(mesh, problem.contact_nodes), problem.contact_surface), range(problem.n_contacts)))
+    out = {}
+    for (step, inc), g in table.groupby(["step", "increment"], sort=True):
+        if step == 2 and inc == 0:
+            continue
+        gap = np.zeros(problem.n_contacts)
+        gap[[rows[(n, s)] for n, s in zip(g.node, g.surface)]] = g.gap_m.to_numpy(float)
+        out[float(g.load_factor.iloc[0])] = ring_line_forces(problem, gap, mesh.n_theta)[0]
+    return out
 
 
 def ring_lines(xyz: np.ndarray, n_theta: int) -> tuple[np.ndarray, np.ndarray]:

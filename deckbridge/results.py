@@ -153,6 +153,8 @@ class SourceResult:
     summary: dict | None = None
     wall: pd.DataFrame | None = None      # base-wall sigma_zz per state (deckbridge.wall_stress.WALL_COLUMNS)
     friction: pd.DataFrame | None = None  # tangential state per row and state (deckbridge.friction_table), if any
+    ring_lines: dict | None = None        # {load factor: contact force [N] per azimuth line of the ccx f2f deck's
+    #                                       master ring} (8-/6-node faces: quantities ring_line_force_n), if any
 
     def wall_at(self, step: int, increment: int, load_factor: float) -> pd.DataFrame | None:
         """Rows of :attr:`wall` of one state: step 1 its last increment, step 2 the same load factor."""

@@ -87,6 +87,12 @@ REPRODUCES = _key("reproduces", "-", "sweep and verdict, per penalty case: repro
                   "the Lagrange peak at every compared load factor and onset_rel_diff within the onset tolerance "
                   "(deckbridge/studies/recommend.py)")
 CAVEATS = _key("caveats", "-", "what the numbers of this reference run do not show (run job)")
+# --- the comparison (summary.json of run / compare) ------------------------------------------------------
+RING_LINE_FORCE_MAX_DIFF = _key("ring_line_force_max_diff", "1",
+                                "ccx/f2f vs reference/f2f on 8-/6-node faces: largest difference of the contact "
+                                "force on an azimuth line of the deck's master ring over the largest line force, "
+                                "worst state with lift/R <= 0.01 (deckbridge/quantities.py ring_line_force_n; exact "
+                                "on both sides, unlike their nodal sigma_N)")
 # --- cost --------------------------------------------------------------------------------------------------
 SOLVER = _key("solver", "-", "sparse factorisation, contact algorithm, increments, iterations")
 TIMINGS_S = _key("timings_s", "s", "seconds per phase (condensation, load path)")

@@ -32,26 +32,15 @@ def ring_resultant(ccx_dir: Path, label: str, table, lam_max: float) -> dict | N
 def ring_line_pairs(run) -> list[tuple[float, "np.ndarray", "np.ndarray"]]:
     """(load factor, reference, ccx) per common state of a quadratic run's face-to-face pair: the contact force
     [N] on each azimuth line of the deck's master ring, the reference's from its reference/f2f gaps
-    (:func:`deckbridge.reference_f2f.ring_line_forces`), ccx's from the ring's RF
-    (:func:`deckbridge.dialects.calculix.result_files.f2f_master_lines`): both exact, no nodal extrapolation."""
-    import numpy as np
-    from deckbridge.dialects.calculix.result_files import f2f_master_lines
+    (:func:`deckbridge.reference_f2f.table_ring_lines`), ccx's from the ring's RF (the calculix record's line
+    reader, :func:`deckbridge.dialects.calculix.result_files.f2f_ring_lines`), paired as the job pairs them
+    (:func:`deckbridge.compare.ring_lines.ring_line_pairs`): both exact, no nodal extrapolation."""
+    from deckbridge.compare.ring_lines import ring_line_pairs as pairs
+    from deckbridge.dialects.calculix.result_files import f2f_ring_lines
     from deckbridge.mesh import build_mesh
-    from deckbridge.numbering.skirt import mesh_node_ids
-    from deckbridge.reference_f2f import ring_line_forces
+    from deckbridge.reference_f2f import table_ring_lines
     from deckbridge.solve import build_problem
     mesh = build_mesh(run.model)
     p = build_problem(run.model, mesh)
-    rows = dict(zip(zip(mesh_node_ids(mesh, p.contact_nodes), p.contact_surface), range(p.n_contacts)))
     deck = next((Path(run.out) / "ccx").glob("*_ccx_f2f.inp"))
-    got = {load_factor(t, run.model.steps.lambda_max): f for t, f in f2f_master_lines(deck, mesh.n_theta).items()}
-    out = []
-    for (step, inc), g in run.tables["reference/f2f"].groupby(["step", "increment"], sort=True):
-        lam = float(g.load_factor.iloc[0])
-        near = min(got, key=lambda x: abs(x - lam))
-        if abs(near - lam) > 1e-6 or (step == 2 and inc == 0):
-            continue
-        gap = np.zeros(p.n_contacts)
-        gap[[rows[(n, s)] for n, s in zip(g.node, g.surface)]] = g.gap_m.to_numpy(float)
-        out.append((lam, ring_line_forces(p, gap, mesh.n_theta)[0], got[near]))
-    return out
+    return pairs(table_ring_lines(p, mesh, run.tables["reference/f2f"]), f2f_ring_lines(deck, run.model, mesh))

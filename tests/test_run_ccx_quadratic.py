@@ -13,14 +13,28 @@ import warnings
 
 import pytest
 
-from deckbridge.api import run
+from click.testing import CliRunner
+
+from deckbridge import summary_keys as K
+from deckbridge.cli import main
 from deckbridge.model import load
 
 MESH = ["mesh.element=hex20r", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1", "contact.stop.side=none",
         "steps.increments=5"]
 
 
-def test_run_with_ccx_on_a_hex20r_skirt(tmp_path):
+@pytest.fixture(scope="module")
+def ran(tmp_path_factory):
+    """(model, output folder, console text) of the module's one `deckbridge run --with-ccx` on MESH."""
+    out = tmp_path_factory.mktemp("run") / "out"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")              # quadratic-mesh 'unverified' and deck-left-out notes
+        r = CliRunner().invoke(main, ["run", "--with-ccx", *[a for kv in MESH for a in ("--set", kv)], "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    return load(None, MESH), out, r.output
+
+
+def test_run_with_ccx_on_a_hex20r_skirt(ran):
     """Measured (24 x 3 x 1, 53 s one core): under N alone the peak through-wall sigma_N of ccx/mortar -14.41, ccx/f2f
     -14.32, reference penalty and f2f -14.33 MPa against the thin ring's -14.32. The mortar tables (ccx -D^-T r and
     the reference's face-weighted Lagrange, the hat field's multipliers on hat areas, both adding up to N) alternate
@@ -38,11 +52,7 @@ def test_run_with_ccx_on_a_hex20r_skirt(tmp_path):
     -14.41 MPa (both now asserted against the ring), ccx/mortar -14.34; at lambda 0.6 reference/mortar vs ccx/mortar
     17.5 kPa = 0.061 % of the peak (reference/lagrange vs ccx/mortar 0.62 MPa = 2.1 %), ccx/f2f vs reference/f2f
     0.20 MPa = 0.70 %; peaks at lambda 1 -230.7 / -230.5 MPa (reference/lagrange -178.4)."""
-    model = load(None, MESH)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")              # quadratic-mesh 'unverified' and deck-left-out notes
-        run(model, tmp_path / "out", with_ccx=True)
-    out = tmp_path / "out"
+    model, out, _ = ran
     summary = json.loads((out / "summary.json").read_text())
     labels = {"reference/penalty", "reference/lagrange", "reference/f2f", "ccx/f2f", "ccx/mortar", "reference/mortar"}
     assert labels <= set(summary["sources"])
@@ -71,3 +81,16 @@ def test_run_with_ccx_on_a_hex20r_skirt(tmp_path):
     for job in ("JAR_ccx_lagrange", "JAR_ccx_f2f"):          # ParaView series of both ccx jobs
         assert (out / "ccx" / f"{job}.pvd").is_file() and (out / "ccx" / f"{job}_005.vtu").is_file()
     assert (out / "report.html").is_file()
+
+
+def test_f2f_ring_line_forces_in_summary_console_and_report(ran):
+    """ccx/f2f vs reference/f2f on these 8-node faces by the exact contact force on each azimuth line of the f2f
+    deck's master ring (quantities ring_line_force_n; the nodal sigma_N, CPRESS against the hat projection, part at
+    the contact edge): its worst state within lift/R <= 0.01 in summary.json, the console and the report."""
+    _, out, console = ran
+    summary = json.loads((out / "summary.json").read_text())
+    got = summary[K.RING_LINE_FORCE_MAX_DIFF]
+    assert 0.0 < got <= 0.02
+    assert f"{K.RING_LINE_FORCE_MAX_DIFF}: worst of" in console and f"{got:.3%}" in console and "CPRESS" in console
+    report = (out / "report.html").read_text()
+    assert f"{got:.3%}" in report and K.RING_LINE_FORCE_MAX_DIFF in report and "CPRESS" in report

@@ -28,6 +28,7 @@ from .. import quantities as Q
 from .metrics import element_arc, liftoff_zones, pair_metrics, peak_compression, zone_iou, zone_iou_tol
 from .onsets import best, onsets
 from .profile import LAMBDA_TOL, Profile
+from .ring_lines import ring_line_comparison
 from .series import Series, split_tables
 
 
@@ -55,6 +56,7 @@ class ComparisonResult:
     points: list[PointResult]
     onsets: dict[str, dict]                     # label -> compare.onsets.onsets(...) (first_node, section)
     sources: dict[str, SourceResult] = field(default_factory=dict)   # label -> the record it came from
+    ring_lines: dict | None = None              # ccx f2f vs its reference on 8-/6-node faces (compare.ring_lines)
 
     @property
     def liftoff(self) -> dict[str, float | None]:
@@ -116,6 +118,8 @@ class ComparisonResult:
                             for k, q in Q.DEFINITIONS.items()},
             "load_factors": [p.load_factor for p in self.points],
             "primary_load_factor": prim.load_factor,
+            **({} if not self.ring_lines else
+               {Q.RING_LINE_FORCE_MAX_DIFF: self.ring_lines[Q.RING_LINE_FORCE_MAX_DIFF]}),
             "sources": sources,
             "pairs": prim.pairs,
             "comparisons": [{
@@ -291,7 +295,10 @@ def compare_series(series: list[Series], load_factors: list[float] | None = None
         pt.headline = head
         points.append(pt)
     points = [p for p in points if p.labels]
-    return ComparisonResult(series, points, ons, dict(records))
+    carried = {s.label: getattr(records.get(s.label), "ring_lines", None) for s in series}
+    rl = ring_line_comparison([s.label for s in series], carried, lambda lam: lift_over_radius(
+        [s for s in series if carried[s.label]], lam))
+    return ComparisonResult(series, points, ons, dict(records), rl)
 
 
 def compare_tables(tables: list, load_factors=None, origins=None, surface: str = "table") -> ComparisonResult:

@@ -86,6 +86,7 @@ class Dialect:
     run_check: str | None = None
     wall_reader: str | None = None
     series_writer: str | None = None
+    line_reader: str | None = None         # f(result, model, mesh) -> {load factor: ring_line_force_n} or None
     version: str | None = None             # f() -> its solver's version line (provenance), None if absent
     # the largest node / element id its fields carry, and f(mesh) -> largest id its decks write
     max_id: int = INP_MAX_ID
@@ -139,6 +140,12 @@ class Dialect:
     def wall(self, result_file: Path, model, mesh):
         """Base-wall table of a run's result, None without a wall reader or when the run printed none."""
         return self.part(self.wall_reader)(result_file, model, mesh) if self.wall_reader else None
+
+    def ring_lines(self, result_file: Path, model, mesh) -> dict | None:
+        """{load factor: contact force [N] per azimuth line of the deck's master ring} of a run's result
+        (:data:`deckbridge.quantities.DEFINITIONS` ring_line_force_n); None without a line reader or where the job
+        has no such ring."""
+        return self.part(self.line_reader)(result_file, model, mesh) if self.line_reader else None
 
     def write_series(self, job: Path, model, outdir: Path, mesh, table) -> list[Path]:
         """ParaView series of a run (none without a series writer)."""

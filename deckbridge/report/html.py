@@ -18,6 +18,7 @@ import jinja2
 from .. import quantities as Q
 from ..compare.onsets import describe
 from ..compare.result import ComparisonResult
+from ..compare.ring_lines import ring_line_text
 
 
 def env() -> jinja2.Environment:
@@ -103,7 +104,7 @@ def render(result: ComparisonResult, figures: list[bytes], model=None, glob: dic
         model_rows=None if model is None else model_rows(model), global_rows=rows, von_mises_pair=pair,
         global_png=global_png, notes=list(notes or []), path_pngs=list(path_pngs or []),
         banners=list(banners or []), caveats=list(caveats or []), friction_pngs=list(friction_pngs or []),
-        verdict=verdict,
+        verdict=verdict, ring_lines=ring_line_text(result),
         provenance=[(k, str(v)) for k, v in (provenance or {}).items() if k != "sources"],
         definitions=[f"{k} [{q.unit}], weighting {q.weighting}: {q.definition}" for k, q in Q.DEFINITIONS.items()])
 

@@ -12,4 +12,4 @@ RECORD = Dialect(
             "and face-to-face penalty deck (SURFACE TO SURFACE, without NLGEOM), run by ccx",
     runner=".runner:run_result", run_folder="ccx", run_check=".render:check_supported",
     wall_reader=".el_stress:ccx_wall", series_writer=".paraview:write_ccx_series",
-    version=".runner:version")
+    line_reader=".result_files:f2f_ring_lines", version=".runner:version")

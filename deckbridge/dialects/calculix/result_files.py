@@ -282,3 +282,15 @@ def f2f_master_lines(inp, n_theta: int) -> dict[float, np.ndarray]:
         raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
                               f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
     return out
+
+
+def f2f_ring_lines(result_file, model, mesh) -> dict[float, np.ndarray] | None:
+    """The calculix record's ``line_reader``: {load factor: :func:`f2f_master_lines` at that state} of the
+    face-to-face job whose result is ``result_file`` (its deck beside it) on 8-/6-node faces; None for any other
+    job or face. Load factor: step 1's end 0, step 2 lambda_max (t - 1) (the decks' two steps of period 1)."""
+    inp = Path(result_file).with_suffix(".inp")
+    if not (mesh.quadratic_faces and inp.name.endswith("_ccx_f2f.inp") and inp.is_file()):
+        return None
+    lam_max = model.steps.lambda_max
+    return {(0.0 if t <= 1.0 + 1e-9 else lam_max * (t - 1.0)): f
+            for t, f in sorted(f2f_master_lines(inp, mesh.n_theta).items()) if t >= 1.0 - 1e-9}
