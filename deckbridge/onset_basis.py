@@ -7,11 +7,13 @@ solved in CalculiX's dual basis (``contact_weighting='face-dual'``, :func:`deckb
 is a second discretisation of the same law: on meshes fine enough for the onset the two agree (first node within
 0.15 % on hex20 48 x 8 x 1, 0.3 % wedge15 48 x 12 x 1, 0.14 % on the Gmsh C3D20 + C3D15 skirt 96 x 6 x 1,
 ~1 % tet10 48 x 8 x 1 at t/R 0.03; the dual's onset is the later one, its multiplier a weighted mean reaching
-inward of the outer fibre: +0.4 / +0.65 % of the thick ring where the hat one is within 0.1 / 0.3 %). On tall
+inward of the outer fibre: +0.4 / +0.65 % of the thick ring where the hat one is within 0.1 / 0.3 %; the default
+72 x 30 x 2 mesh with the default loads, first node: hex20r 0.6 %, hex20 0.6 %, wedge15 1.8 %, tet10 2.0 %). On tall
 cells the base traction of the discrete model scatters under N alone and the hat basis amplifies that on
 6-node faces: the Gmsh mixed skirt 48 x 3 x 1 (0.67 m cells) opens 22 inner-edge mid-side rows under N alone
 (first node lambda 0, whole section 0.361), where the dual basis (as ccx's mortar) gives 0.631 / 0.651 and
-the thick ring 0.67056 / 0.6796. :func:`basis_check` records the dual onsets in the Lagrange summary and returns
+the thick ring 0.67056 / 0.6796 (parametric wedge15 48 x 3 x 1: 0.608 / 0.660 first node, 7.9 % apart; the
+mixed skirt with the default loads 0.324 / 0.346 first node, 0.387 / 0.423 whole section, 8.6 % apart). :func:`basis_check` records the dual onsets in the Lagrange summary and returns
 a warning line when either onset differs by more than :data:`DISAGREE` of the larger: then the onset is the
 mesh's, not the structure's (refine ``mesh.n_z``; docs/elements.md).
 """
@@ -21,7 +23,8 @@ from __future__ import annotations
 from . import summary_keys as K
 from .methods import LAGRANGE
 
-DISAGREE = 0.02          # relative difference of the two bases' onsets that warns (fine meshes: <= 1 %)
+DISAGREE = 0.05          # relative difference of the two bases' onsets that warns (module doc: <= 2.0 % measured
+                         # where the mesh is fit for the onset, 6-100 % where it is not)
 
 
 def dual_basis_onsets(model, mesh, system) -> tuple[float | None, float | None]:
