@@ -276,7 +276,7 @@ def test_the_job_warns_where_the_two_bases_disagree_on_the_onset(tall_mixed, tal
     """deckbridge/onset_basis.py: the job's Lagrange summary gets the dual-basis onsets (the same numbers as the
     dual solve above) and the console a warning (> 5 % apart), on the mixed 48 x 3 x 1 skirt (hat 0 / 0.361, dual
     0.631 / 0.651) and the parametric wedge15 48 x 3 x 1 (first node 0.608 / 0.660, 7.9 %). Where the bases agree
-    (hex20 48 x 3 x 1, quad8 faces: 0.65243 / 0.67516 hat, 0.65326 / 0.67474 dual) nothing is said, though both
+    (hex20 48 x 3 x 1, quad8 faces: 0.65243 / 0.67333 hat, 0.65326 / 0.67549 dual) nothing is said, though both
     are 2.6 % below the thick ring there: the check finds the hat basis's amplified scatter on 6-node faces, not
     every coarse-mesh error. The default 72 x 30 x 2 skirt and loads: 0.6 % (hex20r, hex20) to 2.0 % (tet10)."""
     assert _basis_check(tall_wedge15)[0] is not None
@@ -289,3 +289,24 @@ def test_the_job_warns_where_the_two_bases_disagree_on_the_onset(tall_mixed, tal
         m = load(None, ["mesh.element=hex20", "mesh.n_theta=48", "mesh.n_z=3", "mesh.n_r=1", *KIN])
     line, first, _ = _basis_check(_both_bases(m))
     assert line is None and first == pytest.approx(_thick_ring_onset(m), rel=0.03)
+
+
+def test_whole_section_onset_of_the_cone_reads_the_law_s_own_rows():
+    """The hex20r cone of the quadratic scenario matrix (tests/scenarios.py QUADRATIC_CASES[0], 16 x 4 x 2, kinematic
+    top, mm): under N alone the outer half of the cone's base lifts (first node lambda 0 in every basis and in hex8i
+    64 x 16 x 6: true), the whole section later. The section onset reads the face-weighted law's own rows
+    (reference_solver/onset.py: _law_rows): 0.57446 (dual 0.59190; 32 x 8 x 4: 0.59112, dual 0.59191; hex8i
+    64 x 16 x 6 0.59063; thin ring N R / (2 M_b) 0.59559). Before, with the nodal measure (a pressed 8-node
+    corner's nodal force is negative): 0.400, the bracket's lower end, on 16 x 4 x 2 and 32 x 8 x 4 alike."""
+    from scenarios import QUADRATIC_CASES, Case
+
+    from deckbridge.wall_stress import reference_section_onset
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = load(None, list(Case(QUADRATIC_CASES[0]).overrides(None)))
+        mesh, system = condense_model(m)
+        sol = solve_path(m, system, "lagrange")
+        section = reference_section_onset(system, mesh, sol)[0]
+    bt = m.loads.N * m.geometry.radius / (2 * m.base_moment)
+    assert sol.liftoff_load_factor == 0.0
+    assert section == pytest.approx(bt, rel=0.04) and section < bt
