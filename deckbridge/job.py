@@ -36,6 +36,7 @@ from .friction_table import friction_table
 from .methods import LAGRANGE, NAMES, PENALTY
 from .mesh import build_mesh
 from .model import Model
+from .onset_basis import basis_check
 from .outdir import prepare, replacing
 from .render import render_all
 from .readers import read
@@ -98,6 +99,9 @@ def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: flo
         lam_s, th_s = reference_section_onset(system, mesh, sol)
         summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = lam_s, th_s
         summary["caveats"] = reference_caveats(model, mesh, system, sol)
+        basis_warning = basis_check(model, mesh, system, summary)   # 8-/6-node faces: hat vs dual onsets
+        if basis_warning:
+            echo(basis_warning)
         U = path_fields(system, sol)             # the one recovery of every row: wall, VTUs, the report's globals
         fric = friction_table(df, sol, model.contact.friction, system.problem.contact_normals)   # None: no friction
         write_outputs(folder, model, system, sol, df, summary, mesh, U=U, fric=fric)

@@ -58,6 +58,12 @@ SECTION_LIFTOFF_LOAD_FACTOR = _key("section_liftoff_load_factor", "-",
                                    "whole-section liftoff onset: smallest lambda at which every node through "
                                    "the wall at one azimuth is open (exact, reference solver)")
 SECTION_LIFTOFF_THETA_DEG = _key("section_liftoff_theta_deg", "deg", "azimuth of the first whole section to lift")
+DUAL_BASIS_LIFTOFF_LOAD_FACTOR = _key("dual_basis_liftoff_load_factor", "-",
+                                      "8-/6-node table faces, lagrange: the first-node onset of the same law in "
+                                      "CalculiX's dual multiplier basis (deckbridge/onset_basis.py); None: no lift")
+DUAL_BASIS_SECTION_LIFTOFF_LOAD_FACTOR = _key("dual_basis_section_liftoff_load_factor", "-",
+                                              "8-/6-node table faces, lagrange: the whole-section onset in CalculiX's "
+                                              "dual multiplier basis (deckbridge/onset_basis.py); None: no lift")
 BEAM_THEORY_LIFTOFF_LOAD_FACTOR = _key("beam_theory_liftoff_load_factor", "-",
                                        "thin ring, rigid section: lambda_c = N R / (2 (M + T H)); None when "
                                        "M + T H <= 0")

@@ -16,7 +16,7 @@ Rows are open when their gap is > 0 and they are not closed.
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -185,6 +185,33 @@ def group_open(gap: np.ndarray, closed: np.ndarray, groups: list[np.ndarray]) ->
     return np.array([bool(opened[g].all()) for g in groups])
 
 
+class _Rows(NamedTuple):
+    """The per-increment rows :func:`section_onset` reads (in the law's own variables)."""
+    step: np.ndarray
+    load_factor: np.ndarray
+    gap: np.ndarray
+    force: np.ndarray
+    closed: np.ndarray
+
+
+def _law_rows(system, sol) -> tuple[Callable, np.ndarray]:
+    """(map (gap, force, closed) -> the same in the law's own variables, diag of the law's condensed matrix) for
+    :func:`section_onset`. The nodal laws: the rows as they are, diag S. The face-weighted Lagrange
+    (``contact_weighting`` not 'nodal', face_law.py): weighted gaps g~ = D g and multipliers lambda = D^-T r, diag
+    of S~ = D^-T S D^-1: its rows are open where lambda = 0 and g~ > 0 and pressed where lambda > 0, while the
+    nodal forces D^T lambda of a pressed 8-node corner are negative (-1/12 of a uniform pressure) and the nodal
+    gap of an open row may be <= 0 by the weak condition's ~1e-3, so the nodal measure read closed pressed
+    corners as open (the hex20r cone 16 x 4 x 2 of the quadratic matrix: whole section 0.400, the bracket's lower
+    end, where the law's own variables give 0.58; hex8i 64 x 16 x 6: 0.5906)."""
+    p = system.problem
+    S = system.Sc if hasattr(system, "Sc") else system.S
+    if getattr(p, "contact_weighting", "nodal") == "nodal" or sol.method != "lagrange":
+        return (lambda gap, force, closed: (gap, force, closed)), np.diag(S)[:system.n_contacts].copy()
+    from .face_law import FaceWeighting
+    W = FaceWeighting(p, S)
+    return (lambda gap, force, closed: (W.weigh(np.asarray(gap, float)), W.to_pressure(force), closed)), np.diag(W.S).copy()
+
+
 def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[float], tuple],
                   tol: float = 1e-9) -> tuple[float | None, int | None]:
     """(lambda, group index) of the first load factor of step 2 at which a whole group is open, or
@@ -194,9 +221,14 @@ def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[flo
 
     The onset is the first root of phi(lambda) = max over groups of (min over the group's rows of m_i),
     m_i = gap_i - force_i / S_ii (a closed exact row has gap 0 and force > 0; a penalty row's gap is
-    negative while closed), continuous and piecewise linear in lambda: Illinois regula falsi, exact once
+    negative while closed; the face-weighted Lagrange in its own variables, :func:`_law_rows`), continuous and piecewise linear in lambda: Illinois regula falsi, exact once
     the bracket lies in one linear piece, bisection steps as fallback, to ``tol`` on lambda or |phi| <
     1e-12 of its scale."""
+    law_rows, diag = _law_rows(system, sol)
+    raw_state_at = state_at
+    state_at = lambda lam: law_rows(*raw_state_at(lam))        # noqa: E731
+    gaps, forces = zip(*(law_rows(g, f, c)[:2] for g, f, c in zip(sol.gap, sol.force, sol.closed)))
+    sol = _Rows(sol.step, sol.load_factor, np.array(gaps), np.array(forces), sol.closed)
     rows2 = np.flatnonzero(sol.step == 2)
     hit = [j for j in rows2 if group_open(sol.gap[j], sol.closed[j], groups).any()]
     if not hit:
@@ -207,7 +239,6 @@ def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[flo
     if not before:
         return hi, int(np.flatnonzero(group_open(sol.gap[j], sol.closed[j], groups))[0])
     lo = float(sol.load_factor[before[-1]])
-    diag = np.diag(system.Sc if hasattr(system, "Sc") else system.S)[:system.n_contacts].copy()
 
     def measure(gap, force, closed):
         m = np.where(closed, gap - force / diag, gap)
