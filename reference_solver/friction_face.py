@@ -40,6 +40,17 @@ from .face_law import weighting_matrix
 from .friction_law import FrictionLaw
 
 
+def dual_shares(p):
+    """``p`` with CalculiX's dual multiplier basis (``contact_weighting='face-dual'``), the basis of friction on 8-/6-node
+    faces (docs/elements.md: measured against a fine hex8i skirt and beam theory, the hat basis lifted a tet10 skirt
+    with friction at lambda 0.02): every row on a face gets the area d_a = int psi_a dA (the row sums of D, so that
+    Sum -sigma_N A = the normal resultant) and its stiffnesses k, k_t scaled by d_a / area (the same slope [Pa/m])."""
+    q = dataclasses.replace(p, contact_weighting="face-dual")
+    d = np.asarray(weighting_matrix(q) @ np.ones(p.n_contacts)).ravel()
+    scale = d / p.contact_area
+    return dataclasses.replace(q, contact_area=d, contact_k=p.contact_k * scale, contact_kt=p.contact_kt * scale)
+
+
 class WeightedFriction:
     """The map of a :class:`reference_solver.friction.FrictionSystem` onto its face-weighted variables (module
     doc): ``system`` is the weighted FrictionSystem (its problem carries the weighted clearance and stiffnesses),
@@ -137,6 +148,7 @@ class FaceFrictionLaw(FrictionLaw):
         U = X[:, :nc]
         out.update(u=U, gap=p.contact_clearance + U, force=wf.forces(out["force"]), retained_u=X)
         ft, ds = out["tangential_force"], out["slip_increment"]
+        out["tangential_traction"] = ft.copy()               # lambda_t [Pa], global (Solution.friction_check)
         for i in range(ft.shape[0]):
             ft[i, fr] = wf.Dff.T @ ft[i, fr]                  # r_t = D^T lambda_t, per global component
             ds[i, fr] = wf._luf.solve(np.ascontiguousarray(ds[i, fr]))    # Delta s = D^-1 Delta s~
