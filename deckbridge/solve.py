@@ -41,11 +41,12 @@ SOURCE = "reference"
 
 
 def check_solvable(model: Model, mesh: SkirtMesh) -> None:
-    """Refuse (ModelError naming the element key) what the reference solver cannot solve on this mesh: friction
-    on quadratic contact faces with the radial stop (a base corner's tangential axis is the stop's normal, which
-    the face-weighted friction law cannot weigh: reference_solver/friction_face.py). Called by
-    :func:`build_problem` and by the job before it writes anything."""
-    if mesh.quadratic_faces and model.contact.tangential == "friction" and mesh.stop is not None:
+    """Refuse (ModelError naming the element key) what deckbridge's reference solve does not run on this mesh:
+    friction on quadratic contact faces (:data:`deckbridge.mesh_order.QUADRATIC_REFUSED`: the face-weighted friction
+    law of reference_solver/friction_face.py is verified for Lagrange, its penalty form does not settle at the
+    stiff k-factors of ``run``'s penalty verdict). Called by :func:`build_problem` and by the job before it writes
+    anything."""
+    if mesh.quadratic_faces and model.contact.tangential == "friction":
         from .mesh_order import QUADRATIC_REFUSED
         raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
 
@@ -53,9 +54,9 @@ def check_solvable(model: Model, mesh: SkirtMesh) -> None:
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
     faces get the face-weighted laws (``contact_weighting='face'``: Lagrange through the mortar matrix, penalty
-    integrated over the faces, reference_solver/face_penalty.py; with friction Coulomb on the multipliers of
-    CalculiX's dual basis, ``'face-dual'`` with its shares as the rows' areas, reference_solver/friction_face.py,
-    refused with the radial stop: :func:`check_solvable`)."""
+    integrated over the faces, reference_solver/face_penalty.py; friction refused by :func:`check_solvable`; the
+    friction problem, once allowed, takes CalculiX's dual basis, ``'face-dual'`` with its shares as the rows'
+    areas: reference_solver/friction_face.py)."""
     mesh = mesh or build_mesh(model)
     weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face_law.py, face_penalty.py
     check_solvable(model, mesh)

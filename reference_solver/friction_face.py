@@ -24,7 +24,9 @@ Outputs are the nodal quantities (``arrays``): displacements W^-1 x~, normal for
 forces D^T lambda_t (global vectors), slip increments D^-1 Delta s~; the dissipation -lambda . Delta s~ = -r .
 Delta s (W^T lambda = r); stick / slip / open and ``closed`` are the multipliers' status; sigma_N = -lambda.
 A friction row whose tangential axis is another row's normal (a base corner on the radial stop) is refused
-in one line: one retained dof cannot take the two weightings.
+in one line: one retained dof cannot take the two weightings. Which basis: deckbridge takes the dual one
+(:func:`dual_shares`), measured against beam theory, a fine hex8i skirt and ccx's mortar ``*FRICTION``
+(docs/elements.md, "Friction on 8-/6-node contact faces"); the hat basis stays selectable ('face').
 """
 
 from __future__ import annotations
@@ -121,6 +123,7 @@ class FaceFrictionLaw(FrictionLaw):
     def __init__(self, sysf, method: str, k_factor: float = 1.0, algorithm: str | None = None,
                  corner: str | None = None):
         self.weighted = WeightedFriction(sysf)
+        self._raw = False                                    # retained() in the weighted variables (arrays)
         super().__init__(self.weighted.system, method, k_factor, algorithm, corner)
         self._k_nodal = (k_factor if self.uses_k else 1.0) * sysf.problem.contact_k
 
@@ -134,24 +137,36 @@ class FaceFrictionLaw(FrictionLaw):
         return watch & ~st.active
 
     def retained(self, states) -> np.ndarray:
-        return self.weighted.to_nodal(np.array([st.x for st in states]))
+        """The nodal retained displacements W^-1 x~ [m] of ``states``."""
+        X = np.array([st.x for st in states])
+        return X if self._raw else self.weighted.to_nodal(X)
 
     def sigma_n(self, force):
         """sigma_N = -lambda = -D^-T r [Pa] (< 0 compression)."""
         return 0.0 - self.weighted.pressures(np.asarray(force, float))
 
     def arrays(self, states, coeffs) -> dict:
-        out = super().arrays(states, coeffs)                 # in the weighted variables
+        self._raw = True
+        try:
+            out = super().arrays(states, coeffs)             # in the weighted variables
+        finally:
+            self._raw = False
         wf, p = self.weighted, self.weighted.original.problem
-        X = wf.to_nodal(out["retained_u"])
-        nc, fr = p.n_contacts, wf.rows
+        Xw = out["retained_u"]
+        X = wf.to_nodal(Xw)
+        nc, fr, td = p.n_contacts, wf.rows, self.sysf.tdofs
         U = X[:, :nc]
         out.update(u=U, gap=p.contact_clearance + U, force=wf.forces(out["force"]), retained_u=X)
         ft, ds = out["tangential_force"], out["slip_increment"]
         out["tangential_traction"] = ft.copy()               # lambda_t [Pa], global (Solution.friction_check)
-        for i in range(ft.shape[0]):
+        T = np.array([st.t for st in states])
+        dw = np.diff(Xw[:, td], axis=0, prepend=0.0 * Xw[:1, td])          # weighted increments (ni, nf, 2)
+        if self.name == "penalty":                                          # minus the elastic part
+            dw = dw + np.diff(T, axis=0, prepend=0.0 * T[:1]) / self.kt[None, :, None]
+        for i, st in enumerate(states):
             ft[i, fr] = wf.Dff.T @ ft[i, fr]                  # r_t = D^T lambda_t, per global component
-            ds[i, fr] = wf._luf.solve(np.ascontiguousarray(ds[i, fr]))    # Delta s = D^-1 Delta s~
+            d = wf._luf.solve(np.ascontiguousarray(np.einsum("fa,fak->fk", dw[i], self.sysf.tdir)))
+            ds[i, fr] = np.where(st.active[fr][:, None], d, 0.0)   # Delta s = D^-1 Delta s~, open rows 0
         if "penetration" in out:
             out["penetration"] = np.maximum(-(p.contact_clearance + U), 0.0).max(axis=1)
         return out

@@ -22,7 +22,7 @@ lambda, relative).
 
 Units and signs: u / x [m], gaps g = clearance + u [m] (> 0 open), forces p [N] (> 0 compressive).
 The registry :data:`LAWS` lists the frictionless laws; :func:`make_law` picks the friction law for a
-friction system (:mod:`reference_solver.friction_law`). "Add a contact law" in ARCHITECTURE.md.
+friction system (:mod:`reference_solver.friction_law`; on face-weighted rows :mod:`reference_solver.friction_face`). "Add a contact law" in ARCHITECTURE.md.
 """
 
 from __future__ import annotations

@@ -67,23 +67,13 @@ def test_quadratic_skirt_full_contact_against_beam_theory(element):
     assert err < _wall_error("hex8i")[0] + 0.005      # within 0.5 % of hex8i on the same mesh (0.0007)
 
 
-def test_friction_on_quadratic_faces_takes_the_dual_basis_and_refuses_the_stop():
-    """With friction the table rows take CalculiX's dual basis (reference_solver/friction_face.py): their areas are
-    its shares d = int psi dA, which add up to the base faces' area as the hat areas do (1e-12; the annulus 2 pi R t
-    to 1e-4), stiffness slopes k / area kept;
-    with the radial stop it is refused in one line (a base corner's tangential axis is the stop's normal)."""
-    base = ["mesh.element=tet10", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1", "contact.tangential=friction",
-            "contact.friction=0.3"]
-    f = load(None, base + ["contact.stop.side=none"])
-    p, q = build_problem(f), build_problem(load(None, base[:4] + ["contact.stop.side=none"]))
-    assert p.contact_weighting == "face-dual" and q.contact_weighting == "face"
-    g = f.geometry
-    assert p.contact_area.sum() == pytest.approx(q.contact_area.sum(), rel=1e-12)
-    assert p.contact_area.sum() == pytest.approx(2 * np.pi * g.radius * g.thickness, rel=1e-4)
-    np.testing.assert_allclose(p.contact_k / p.contact_area, q.contact_k / q.contact_area, rtol=1e-12)
-    with pytest.raises(ModelError, match=r"^mesh.element = 'tet10'.*radial stop.*contact.stop.side: none") as err:
-        build_problem(load(None, base + ["contact.stop.side=inner"]))
-    assert "\n" not in str(err.value)
+def test_friction_refused_on_quadratic_faces():
+    """(penalty on quadratic faces is the face-integrated penalty law: tests/test_face_penalty_skirt.py; the
+    reference solver's face-weighted friction law: tests/test_friction_quadratic*.py)"""
+    f = load(None, ["mesh.element=tet10", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1",
+                    "contact.tangential=friction", "contact.friction=0.3"])
+    with pytest.raises(ModelError, match=r"^mesh.element = 'tet10'.*face-weighted friction.*verified for Lagrange"):
+        build_problem(f)
 
 
 def test_solve_model_writes_the_projected_pressure_on_quadratic_faces():

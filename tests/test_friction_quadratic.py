@@ -59,7 +59,17 @@ def test_full_stick_is_the_clamped_base(name, weighting):
 def test_balance_cone_and_gross_slip_at_mu_n(weighting, method):
     s = _system("c3d20", weighting)
     sol = rs.solve_path(s, method, base={"N": 1.0}, ramp={"T": 1.0}, lambda_max=4.0, increments=4,
-                        on_gross_slip="stop", recover=False)
+                        on_gross_slip="stop")
+    p = s.problem                                            # the recovered field is the reported one: normal
+    u = sol.fields[2][p.contact_nodes]                       # displacement and slip at the end of step 2
+    np.testing.assert_allclose(np.einsum("ik,ik->i", u, p.contact_normals), sol.u[-1], rtol=0, atol=1e-12 * L[2])
+    step2 = sol.step == 2
+    slip = sol.slip_increment[step2].sum(axis=0)[:, 0]      # Lagrange: a closed row's tangential motion is slip
+    moved = u[:, 0] - sol.fields[1][p.contact_nodes][:, 0]
+    closed = sol.closed[step2].all(axis=0)
+    assert closed.sum() >= closed.size // 2 and np.abs(moved).max() > 1e-8       # rows slipped
+    if method == "lagrange":
+        np.testing.assert_allclose(slip[closed], moved[closed], rtol=0, atol=1e-9 * np.abs(moved).max())
     assert sol.gross_slip_load_factor == pytest.approx(MU * N / T, rel=1e-3)          # T = mu N
     Tl = T * sol.load_factor * (sol.step == 2)
     ft = sol.tangential_force.sum(axis=1)

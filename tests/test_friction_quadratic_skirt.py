@@ -17,56 +17,79 @@ CalculiX's dual basis (reference_solver/friction_face.py, ``build_problem``) aga
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
 import pytest
 
+import reference_solver as rs
+from deckbridge.mesh import build_mesh
 from deckbridge.model import load
+from deckbridge.numbering.skirt import mesh_node_ids
 from deckbridge.readers import read
-from deckbridge.solve import condense_model, solve_path, solve_model
+from deckbridge.solve import build_problem
+from reference_solver.friction_face import dual_shares
 
-FRICTION = ["contact.tangential=friction", "contact.friction=0.3", "contact.stop.side=none",
-            "load_introduction=kinematic", "outputs.vtu=false"]
+MU = 0.3
+SKIRT = ["contact.stop.side=none", "load_introduction=kinematic", "outputs.vtu=false"]
+
+
+def _friction_path(model, **path):
+    """The reference Lagrange path of ``model`` (frictionless) with Coulomb friction mu on its table in ccx's dual
+    basis, the problem ``build_problem`` will give once deckbridge's solve takes friction on these faces
+    (``solve.check_solvable`` refuses it there today): (mesh, problem, solution)."""
+    mesh = build_mesh(model)
+    p = build_problem(model, mesh)
+    p = dual_shares(dataclasses.replace(p, tangential="friction", friction=MU, spring_nodes=p.spring_nodes[:0],
+                                        spring_dirs=p.spring_dirs.reshape(-1, 3)[:0], spring_k=p.spring_k[:0]))
+    return mesh, p, rs.solve_path(rs.condense(p), "lagrange", liftoff_surface="table", **path)
 
 
 def test_kinematic_top_liftoff_with_friction_against_beam_theory():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        m = load(None, ["mesh.element=hex20r", "mesh.n_theta=48", "mesh.n_z=8", "mesh.n_r=1", "loads.T=0",
-                        "steps.lambda_max=1.0", "steps.increments=5", *FRICTION])
-        _, system = condense_model(m)
-        sol = solve_path(m, system, "lagrange")
+        m = load(None, ["mesh.element=hex20r", "mesh.n_theta=48", "mesh.n_z=8", "mesh.n_r=1", *SKIRT])
+        _, p, sol = _friction_path(m, base={"N": 1.0}, ramp={"M": 1.0}, lambda_max=1.0, increments=5, recover=False)
     g, ld = m.geometry, m.loads
     onset = ld.N * g.radius / (2 * ld.M)                      # N R / (2 M_b)
     assert onset == pytest.approx(0.675)
-    assert system.problem.contact_weighting == "face-dual"
+    assert p.contact_weighting == "face-dual"
     assert sol.liftoff_load_factor == pytest.approx(onset, rel=2e-3)          # measured 0.67500
-    assert sol.friction_check(None, 0.3)["violations"] == 0
+    assert sol.friction_check(None, MU)["violations"] == 0
 
 
 @pytest.fixture(scope="module")
 def ccx_mortar_friction(tmp_path_factory):
     from ccx_job import ccx_job
-    m = load(None, ["mesh.element=hex20r", "mesh.n_theta=16", "mesh.n_z=2", "mesh.n_r=1", "steps.increments=4",
-                    *FRICTION])
-    deck = ccx_job(m, tmp_path_factory.mktemp("fq"), "lagrange")
-    return m, solve_model(m, "lagrange")[0], read(deck.with_suffix(".frd"), fmt="calculix", model=m)
+    opts = ["mesh.element=hex20r", "mesh.n_theta=16", "mesh.n_z=2", "mesh.n_r=1", "steps.increments=4", *SKIRT]
+    fm = load(None, opts + ["contact.tangential=friction", f"contact.friction={MU}"])
+    deck = ccx_job(fm, tmp_path_factory.mktemp("fq"), "lagrange")             # the mortar deck with *FRICTION
+    mesh, p, sol = _friction_path(load(None, opts), base={"N": 1.0}, ramp={"T": 1.0, "M": 1.0}, lambda_max=1.0,
+                                  increments=4, recover=False)
+    return fm, mesh, p, sol, read(deck.with_suffix(".frd"), fmt="calculix", model=fm)
 
 
 def test_reference_friction_matches_ccx_mortar_friction(ccx_mortar_friction):
-    m, ref, ccx = ccx_mortar_friction
-    j = ref[ref.surface == "table"].merge(ccx[ccx.surface == "table"], on=["step", "increment", "node"],
-                                          suffixes=("_r", "_c"))
-    assert j.groupby(["step", "increment"]).ngroups == 5         # N alone, then lambda 0.25 to 1
-    opened = []
-    for _, g in j.groupby(["step", "increment"]):
-        peak = np.abs(g.sigma_n_pa_r).max()
-        assert np.abs(g.sigma_n_pa_r - g.sigma_n_pa_c).max() <= 0.02 * peak, g.load_factor_r.iloc[0]
-        assert g.force_n_r.sum() == pytest.approx(m.loads.N, rel=1e-9)
-        assert g.force_n_c.sum() == pytest.approx(m.loads.N, rel=1e-6)
-        differ = (g.status_r == "open") != (g.status_c == "open")        # only where the pressure is ~0 on both
-        assert np.abs(g.sigma_n_pa_r[differ].to_numpy(float)).max(initial=0.0) <= 0.01 * peak
-        assert np.abs(g.sigma_n_pa_c[differ].to_numpy(float)).max(initial=0.0) <= 0.01 * peak
-        opened.append(int((g.status_r == "open").sum()))
-    assert opened[0] == 16 and opened[-1] > 40              # N alone: the corner rows of 1 m cells; past liftoff
+    m, mesh, p, sol, ccx = ccx_mortar_friction
+    table = p.contact_surface == "table"
+    ids = mesh_node_ids(mesh, p.contact_nodes[table])
+    c = ccx[ccx.surface == "table"]
+    opened, compared = [], 0
+    for k in range(sol.load_factor.size):
+        step, lam = int(sol.step[k]), float(sol.load_factor[k])
+        g = c[(c.step == step) & np.isclose(c.load_factor, lam)]
+        if g.empty:                                          # ccx's step 2 has no lambda 0
+            continue
+        compared += 1
+        g = g.set_index("node").loc[ids]
+        ref, cx = sol.sigma_n[k, table], g.sigma_n_pa.to_numpy(float)
+        peak = np.abs(ref).max()
+        assert np.abs(ref - cx).max() <= 0.02 * peak, lam
+        assert (-ref * p.contact_area[table]).sum() == pytest.approx(m.loads.N, rel=1e-9)
+        assert g.force_n.sum() == pytest.approx(m.loads.N, rel=1e-6)
+        differ = (~sol.closed[k, table]) != (g.status.to_numpy() == "open")   # only where the pressure is ~0
+        assert np.abs(ref[differ]).max(initial=0.0) <= 0.01 * peak
+        assert np.abs(cx[differ]).max(initial=0.0) <= 0.01 * peak
+        opened.append(int((~sol.closed[k, table]).sum()))
+    assert compared == 5 and opened[0] == 16 and opened[-1] > 40   # N alone: the corner rows of 1 m cells
