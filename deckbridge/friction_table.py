@@ -10,7 +10,10 @@ the node in global xyz [N] (it opposes the slip: in stick Sum F_t = -T lambda wi
 ``area_m2`` the node's tributary contact area, ``tau_pa`` = |F_t| / area [Pa] (one node; through the
 wall see :func:`deckbridge.quantities.tangential_traction`); ``mu_fn_n`` = mu max(force_n, 0) [N], the
 Coulomb bound; ``stick_status``: stick | slip | open | frictionless (a surface without friction);
-``node_fh_r_n``, ``node_fh_theta_n``: the node's whole horizontal contact force (normal + tangential of
+On face-weighted rows (8-/6-node faces, ``Solution.tangential_traction``) F_t is the tangential multiplier [Pa]
+times ``area_m2`` and the normal force contact.csv's ``force_n`` (the pressure on that area), not the nodal
+consistent shares (<= 0 at the corners of 8-node faces): each row then meets Coulomb on its own, |F_t| <=
+mu force_n, and the sums are the resultants (reference_solver/friction_face.py). ``node_fh_r_n``, ``node_fh_theta_n``: the node's whole horizontal contact force (normal + tangential of
 every row of the node, summed over table and stop), radial (outwards > 0) and circumferential [N], the same
 on each row of the node. At a base node on both table and stop this is the compared quantity: its split
 into stop normal and table friction follows the method's corner rule and is not unique in Lagrange
@@ -41,12 +44,17 @@ def friction_table(contact: pd.DataFrame, sol, mu: float, normals: np.ndarray) -
     ft = np.asarray(sol.tangential_force, float).reshape(-1, 3)
     if len(contact) != ft.shape[0]:
         raise ValueError(f"friction table: {ft.shape[0]} tangential forces for {len(contact)} contact rows")
+    area = contact["area_m2"].to_numpy(float)
+    traction = getattr(sol, "tangential_traction", None)
+    if traction is not None:       # face-weighted rows: the multipliers on the row's area, as force_n (contact.csv)
+        ft = np.asarray(traction, float).reshape(-1, 3) * area[:, None]
+        fn = contact["force_n"].to_numpy(float)[:, None] * np.tile(np.asarray(normals, float), (sol.force.shape[0], 1))
+    else:
+        fn = (np.asarray(sol.force, float)[:, :, None] * np.asarray(normals, float)[None]).reshape(-1, 3)
     t = np.radians(contact["theta_deg"].to_numpy(float))
     e_theta = np.stack([-np.sin(t), np.cos(t), np.zeros_like(t)], axis=1)
     e_r = np.stack([np.cos(t), np.sin(t), np.zeros_like(t)], axis=1)
     mag = np.linalg.norm(ft, axis=1)
-    fn = (np.asarray(sol.force, float)[:, :, None] * np.asarray(normals, float)[None]).reshape(-1, 3)
-    area = contact["area_m2"].to_numpy(float)
     out = contact[["step", "increment", "load_factor", "node", "surface", "theta_deg", "wall"]].reset_index(drop=True)
     out = out.assign(fn_x_n=fn[:, 0], fn_y_n=fn[:, 1], fn_z_n=fn[:, 2], ft_x_n=ft[:, 0], ft_y_n=ft[:, 1], ft_z_n=ft[:, 2],
                      ft_theta_n=np.einsum("ij,ij->i", ft, e_theta), ft_r_n=np.einsum("ij,ij->i", ft, e_r),

@@ -42,9 +42,11 @@ SOURCE = "reference"
 
 
 def check_solvable(model: Model, mesh: SkirtMesh) -> None:
-    """Refuse (ModelError naming the element key) what the reference solver cannot solve on this mesh: friction
-    on quadratic contact faces (the face-weighted laws are frictionless). Called by :func:`build_problem` and by
-    the job before it writes anything."""
+    """Refuse (ModelError naming the element key) what deckbridge's reference solve does not run on this mesh:
+    friction on quadratic contact faces (:data:`deckbridge.mesh_order.QUADRATIC_REFUSED`: the face-weighted friction
+    law of reference_solver/friction_face.py is verified for Lagrange, its penalty form does not settle at the
+    stiff k-factors of ``run``'s penalty verdict). Called by :func:`build_problem` and by the job before it writes
+    anything."""
     if mesh.quadratic_faces and model.contact.tangential == "friction":
         from .mesh_order import QUADRATIC_REFUSED
         raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
@@ -53,8 +55,9 @@ def check_solvable(model: Model, mesh: SkirtMesh) -> None:
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
     faces get the face-weighted laws (``contact_weighting='face'``: Lagrange through the mortar matrix, penalty
-    integrated over the faces, reference_solver/face_penalty.py); with friction they are refused with ModelError
-    (the weighted laws are frictionless)."""
+    integrated over the faces, reference_solver/face_penalty.py; friction refused by :func:`check_solvable`; the
+    friction problem, once allowed, takes CalculiX's dual basis, ``'face-dual'`` with its shares as the rows'
+    areas: reference_solver/friction_face.py)."""
     mesh = mesh or build_mesh(model)
     weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face_law.py, face_penalty.py
     check_solvable(model, mesh)
@@ -64,7 +67,7 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     z3 = (0.0, 0.0, 0.0)
     fric = model.contact.tangential == "friction"   # issue 14: friction replaces the springs
     kt = np.concatenate([mesh.k_tangent] + [s.k for s in mesh.slave_sets[1:]])
-    return rs.Problem(
+    p = rs.Problem(
         nodes=mesh.nodes, hexes=None if mesh.blocks else mesh.hexes, E=model.material.E, nu=model.material.nu,
         element=mesh.cell_blocks[0][0], blocks=tuple(rs.ElementBlock(n, c) for n, c in mesh.blocks),
         contact_nodes=rows.nodes, contact_normals=rows.normals, contact_area=rows.area,
@@ -79,6 +82,10 @@ def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
         tangential=model.contact.tangential, contact_kt=kt, kt_follows_k=model.contact.penalty.k_tangent_follows,
         contact_weighting=weighting,
     )
+    if mesh.quadratic_faces and fric:     # friction on 8-/6-node faces: ccx's dual basis (friction_face.py)
+        from reference_solver.friction_face import dual_shares
+        p = dual_shares(p)
+    return p
 
 
 def condense_model(model: Model, mesh: SkirtMesh | None = None, **kw) -> tuple[SkirtMesh, rs.CondensedSystem]:

@@ -18,8 +18,9 @@ D = their ``contact_area``. D is invertible, so the condensed LCP w = S g + q >=
 solved by the nodal law's own LCP algorithms. sigma_N = -lambda: with the hat basis a node's pressure is its
 own multiplier. With Phi = N (D = M, symmetric) a uniform lift would give g~ < 0 at 8-node
 corners: the base could not lift. Chosen by ``Problem.contact_weighting`` ('nodal' default | 'face' |
-'face-lumped' | 'face-dual'); Lagrange only, frictionless (:func:`reference_solver.laws.make_law` refuses the rest
-in one line).
+'face-lumped' | 'face-dual'); frictionless Lagrange here (penalty: :mod:`reference_solver.face_penalty`; friction,
+every method: the same change of variables in :mod:`reference_solver.friction_face`; :func:`reference_solver.laws.make_law`
+refuses the rest in one line).
 
 'face-dual' takes CalculiX 2.20's ``TYPE=MORTAR`` multiplier basis instead of the hat one (Sitzmann's quadratic
 dual mortar, :func:`reference_solver.face_weights.dual_mortar`): dual functions psi biorthogonal to the transformed

@@ -22,7 +22,7 @@ lambda, relative).
 
 Units and signs: u / x [m], gaps g = clearance + u [m] (> 0 open), forces p [N] (> 0 compressive).
 The registry :data:`LAWS` lists the frictionless laws; :func:`make_law` picks the friction law for a
-friction system (:mod:`reference_solver.friction_law`). "Add a contact law" in ARCHITECTURE.md.
+friction system (:mod:`reference_solver.friction_law`; on face-weighted rows :mod:`reference_solver.friction_face`). "Add a contact law" in ARCHITECTURE.md.
 """
 
 from __future__ import annotations
@@ -225,9 +225,9 @@ def make_law(system, method: str, k_factor: float = 1.0, algorithm: str | None =
     if not (np.isfinite(k_factor) and k_factor > 0):
         raise ReferenceSolverError(f"k_factor = {k_factor!r}: must be > 0")
     if hasattr(system, "tdofs"):                               # a FrictionSystem
-        if system.problem.contact_weighting != "nodal":
-            raise ReferenceSolverError(f"contact_weighting = {system.problem.contact_weighting!r}: the "
-                                       "face-weighted law is frictionless (tangential = 'springs')")
+        if system.problem.contact_weighting != "nodal":              # Coulomb on the multipliers
+            from .friction_face import FaceFrictionLaw
+            return FaceFrictionLaw(system, method, k_factor, algorithm, **options)
         from .friction_law import FrictionLaw
         return FrictionLaw(system, method, k_factor, algorithm, **options)
     if options:

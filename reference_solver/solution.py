@@ -64,6 +64,8 @@ class Solution:
     dissipation: np.ndarray | None = None         # (ni,) friction work dissipated in the increment [J], >= 0
     gross_slip_load_factor: float | None = None   # onset of gross slip (the load slides the body)
     retained_u: np.ndarray | None = None          # (ni, nr) retained displacements [m]
+    tangential_traction: np.ndarray | None = None  # (ni, nc, 3) face-weighted friction: the tangential multipliers
+                                                  # lambda_t [Pa] (global), Coulomb's |lambda_t| <= mu (-sigma_n)
     # with method = 'augmented' (None otherwise):
     augmentations: np.ndarray | None = None       # (ni,) multiplier updates of each increment
     penetration: np.ndarray | None = None         # (ni,) largest penetration max(0, -gap) at its end [m]
@@ -78,8 +80,14 @@ class Solution:
         The normal force sums every contact row of the node (table and stop). A node without
         compression and a tangential force above 1e-9 of the largest counts as a violation.
         With friction modelled (``tangential == 'friction'``) each contact row's tangential force is
-        compared with mu times its own normal force instead.
+        compared with mu times its own normal force instead; on face-weighted rows (``tangential_traction``)
+        its tangential multiplier with mu times its pressure -sigma_n (the nodal forces of 8-/6-node faces
+        are consistent shares, <= 0 at corners: reference_solver/friction_face.py).
         """
+        if self.tangential_traction is not None:     # face-weighted rows: Coulomb holds on the multipliers
+            return {**_cone_check(np.linalg.norm(self.tangential_traction, axis=2), np.maximum(-self.sigma_n, 0.0),
+                                  mu, rtol=1e-9),
+                    "slipping_last_increment": int(np.sum(self.stick_status[-1] == "slip"))}
         if self.tangential_force is not None:
             return {**_cone_check(np.linalg.norm(self.tangential_force, axis=2), np.maximum(self.force, 0.0), mu,
                                   rtol=1e-9),

@@ -68,10 +68,11 @@ def test_quadratic_skirt_full_contact_against_beam_theory(element):
 
 
 def test_friction_refused_on_quadratic_faces():
-    """(penalty on quadratic faces is the face-integrated penalty law: tests/test_face_penalty_skirt.py)"""
+    """(penalty on quadratic faces is the face-integrated penalty law: tests/test_face_penalty_skirt.py; the
+    reference solver's face-weighted friction law: tests/test_friction_quadratic*.py)"""
     f = load(None, ["mesh.element=tet10", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1",
                     "contact.tangential=friction", "contact.friction=0.3"])
-    with pytest.raises(ModelError, match=r"^mesh.element = 'tet10'.*face-weighted.*frictionless"):
+    with pytest.raises(ModelError, match=r"^mesh.element = 'tet10'.*face-weighted friction.*verified for Lagrange"):
         build_problem(f)
 
 
