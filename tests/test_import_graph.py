@@ -146,7 +146,7 @@ LAYERS = {
              "api_callable", "methods", "deck_elements", "face_areas"],
     "model": ["model_fields", "overrides", "outdir", "importers", "model", "mesh", "mesh_order", "numbering",
               "imported_model"],
-    "outputs": ["render", "readers", "paraview", "wall_stress", "solve", "reference_f2f", "reference_dual", "limits",
+    "outputs": ["render", "readers", "paraview", "wall_stress", "solve", "reference_f2f", "reference_dual", "onset_basis", "limits",
                 "compare", "report"],
     "dialects": ["dialects.*"],
     "jobs": ["job", "studies", "model_reference"],
