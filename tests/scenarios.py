@@ -230,8 +230,9 @@ def _no_friction_section_onset(case: Case):
     lifts"): no invariant of :mod:`scenario_checks` reads it, and on a friction path it is ~25 one-increment
     restarts per method (deckbridge.wall_stress.reference_section_onset), half of the case's run (TestCase06:
     107 s of 203 s, cProfile). Its own test against the friction path: tests/test_friction_section_onset.py.
-    A frictionless case keeps it (exact and cheap there)."""
-    if case.levels["tangential"] != "friction":
+    A frictionless case keeps it (exact and cheap there), and so does a quadratic case (8-/6-node faces: the job
+    checks it against ccx's dual basis, deckbridge/onset_basis.py)."""
+    if case.levels["tangential"] != "friction" or "element" in case.levels:
         return contextlib.nullcontext()
     return mock.patch("deckbridge.job.reference_section_onset", return_value=(None, None))
 
