@@ -27,7 +27,6 @@ BOMB = ('title: &a ["lol","lol","lol","lol","lol","lol","lol","lol","lol"]\n'
         "d: &d [*c,*c,*c,*c,*c,*c,*c,*c,*c]\ne: &e [*d,*d,*d,*d,*d,*d,*d,*d,*d]\n")
 
 
-
 # --- 1. output blow-up --------------------------------------------------------------------------------
 def test_alias_bomb_in_a_model_file_is_refused_at_once(tmp_path):
     p = tmp_path / "bomb.yaml"
