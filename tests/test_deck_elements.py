@@ -9,10 +9,10 @@ import pytest
 
 from deckbridge.deck_elements import ccx_element_lines
 from deckbridge.errors import DeckUnsupported
-from deckbridge.job import run_job
 from deckbridge.model import load
 from deckbridge.readers import read
 from deckbridge.render import render_all
+from job_tables import run_job_tables
 
 SMALL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1"]
 
@@ -21,7 +21,7 @@ def test_hex8_decks_match_the_reference_c3d8_within_2_percent(tmp_path):
     """Reference C3D8 (2 x 2 x 2 Gauss, no incompatible modes) against ccx C3D8 decks on the same mesh:
     max |d sigma_N| / peak |sigma_N| over the table at every state, past liftoff (lambda 1)."""
     model = load(None, SMALL + ["mesh.element=hex8", "load_introduction=kinematic"])
-    run_job(model, tmp_path, with_ccx=True, echo=lambda s: None)
+    run_job_tables(model, tmp_path, with_ccx=True, echo=lambda s: None)
     assert "*ELEMENT, TYPE=C3D8, ELSET=ESKIRT" in (tmp_path / "decks" / "JAR_ccx_lagrange.inp").read_text()
     ccx = read(tmp_path / "ccx", model=model)
     for ref_method, ccx_method in (("lagrange", "mortar"), ("penalty", "penalty")):

@@ -118,13 +118,13 @@ def test_renumbered_mesh_decks_carry_the_user_ids(tmp_path):
 
 def test_imported_gmsh_mesh_reference_matches_ccx_penalty(tmp_path):
     """The whole job on an imported mesh: ccx reads back through the user ids (kinematic top)."""
-    from deckbridge.job import run_job
     from deckbridge.readers import read
+    from job_tables import run_job_tables
 
     pytest.importorskip("gmsh")
     g = gmsh_skirt(tmp_path / "mesh", n_theta=24, n_z=6)
     m = load(None, [f"mesh.file={g['inp']}", "mesh.sets={base: BASE, top: TOP}", "load_introduction=kinematic"])
-    run_job(m, tmp_path / "run", with_ccx=True, echo=lambda s: None)
+    run_job_tables(m, tmp_path / "run", with_ccx=True, echo=lambda s: None)
     ref = read(tmp_path / "run" / "reference_penalty", model=m)
     ccx = read(tmp_path / "run" / "ccx", model=m)
     ccx = ccx[ccx.method == "penalty"]

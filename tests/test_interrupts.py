@@ -35,11 +35,19 @@ def _running(pid: int) -> bool:
         return False
 
 
-@pytest.mark.parametrize("sig, said", [(signal.SIGINT, "interrupted (SIGINT"), (signal.SIGTERM, "terminated (SIGTERM)")])
-def test_a_signal_during_ccx_is_one_line_and_leaves_the_folder_as_it_was(tmp_path, sig, said):
-    out = tmp_path / "run"
+@pytest.fixture(scope="module")
+def previous_run(tmp_path_factory):
+    """A real ``deckbridge run`` (its own process) once a module: the folder each signal test starts from (a copy)."""
+    out = tmp_path_factory.mktemp("previous") / "run"
     first = subprocess.run([str(EXE), "run", *SMALL, "-o", str(out)], capture_output=True, text=True, timeout=300)
     assert first.returncode == 0, first.stderr
+    return out
+
+
+@pytest.mark.parametrize("sig, said", [(signal.SIGINT, "interrupted (SIGINT"), (signal.SIGTERM, "terminated (SIGTERM)")])
+def test_a_signal_during_ccx_is_one_line_and_leaves_the_folder_as_it_was(tmp_path, previous_run, sig, said):
+    out = tmp_path / "run"
+    shutil.copytree(previous_run, out, symlinks=True)
     before = snapshot(out)
     proc = subprocess.Popen([str(EXE), "run", *SMALL, "--set", "steps.increments=40", "--with-ccx", "-o", str(out)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,

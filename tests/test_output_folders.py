@@ -30,6 +30,15 @@ def cli(args):
     return CliRunner().invoke(main, [str(a) for a in args])
 
 
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    """``run SMALL`` once a module: the previous run the failed-run and rerun tests start from (each a copy)."""
+    out = tmp_path_factory.mktemp("small_run") / "run"
+    res = cli(["run", *SMALL, "-o", out])
+    assert res.exit_code == 0, res.output
+    return out
+
+
 def snapshot(folder: Path) -> dict:
     """Every file and folder under ``folder`` (hidden ones included) -> sha256 of its bytes (None: a folder)."""
     out = {}
@@ -86,13 +95,13 @@ def test_force_writes_beside_the_users_files_and_a_rerun_needs_no_force(tmp_path
 
 
 # --- failed runs: the folder as it was --------------------------------------------------------------------------
-def test_a_run_that_tips_over_leaves_the_folder_as_it_was(tmp_path):
+def test_a_run_that_tips_over_leaves_the_folder_as_it_was(tmp_path, small_run):
     """Issue 21.9: ``run --set loads.M=2.5e7 -o X`` left X/decks/; into an existing run's folder it left new
     decks beside the old results."""
     error_line(cli(["run", *SMALL, *TIPS, "-o", tmp_path / "new"]), 1)
     assert not (tmp_path / "new").exists()
     old = tmp_path / "old"
-    assert cli(["run", *SMALL, "-o", old]).exit_code == 0
+    shutil.copytree(small_run, old, symlinks=True)              # a successful run's folder
     before = snapshot(old)
     error_line(cli(["run", *SMALL, *TIPS, "--set", "mesh.n_theta=20", "-o", old]), 1)
     assert snapshot(old) == before
@@ -102,10 +111,10 @@ def test_a_run_that_tips_over_leaves_the_folder_as_it_was(tmp_path):
     assert list(empty.iterdir()) == []
 
 
-def test_a_successful_rerun_replaces_the_previous_run_and_keeps_other_files(tmp_path):
+def test_a_successful_rerun_replaces_the_previous_run_and_keeps_other_files(tmp_path, small_run):
     """A re-run removes what the previous run wrote and it does not (a stale ``ccx/``, recorded in the marker),
     and never a file the project did not write."""
-    assert cli(["run", *SMALL, "-o", tmp_path]).exit_code == 0
+    shutil.copytree(small_run, tmp_path, symlinks=True, dirs_exist_ok=True)    # a successful run's folder
     recorded = outdir.recorded(tmp_path)
     assert {"decks", "reference_penalty", "report.html", "summary.json"} <= set(recorded)
     (tmp_path / "ccx").mkdir()                                  # as a run --with-ccx leaves it

@@ -175,11 +175,11 @@ def test_no_series_without_outputs_vtu(tmp_path):
 @pytest.fixture(scope="module")
 def ccx_job(tmp_path_factory):
     """``deckbridge run --with-ccx`` on a 16 x 4 x 1 mesh (both ccx decks, past liftoff at lambda = 1)."""
-    from deckbridge.job import run_job
+    from job_tables import run_job_tables
 
     model = load(None, SMALL)
     out = tmp_path_factory.mktemp("job")
-    run_job(model, out, with_ccx=True, echo=lambda s: None)
+    run_job_tables(model, out, with_ccx=True, echo=lambda s: None)
     return model, build_mesh(model), out
 
 

@@ -17,10 +17,10 @@ lambda 0.8 / 0.9 / 1: penalty (GAPUNI) 3.8 / 13 / 30 %, mortar 11 / 14 / 22 % (b
 import numpy as np
 import pytest
 
-from deckbridge.job import run_job
 from deckbridge.mesh import build_mesh
 from deckbridge.model import load
 from deckbridge.readers import read
+from job_tables import run_job_tables
 
 SMALL = ["mesh.n_theta=24", "mesh.n_z=6", "mesh.n_r=1"]
 
@@ -45,7 +45,7 @@ def _errors(out, model, ref_method, ccx_method):
 def kinematic_job(tmp_path_factory):
     model = load(None, SMALL + ["load_introduction=kinematic"])
     out = tmp_path_factory.mktemp("kin")
-    run_job(model, out, with_ccx=True, echo=lambda s: None)
+    run_job_tables(model, out, with_ccx=True, echo=lambda s: None)
     return model, out
 
 
@@ -69,7 +69,7 @@ def test_both_methods_match_linear_ccx_past_liftoff_with_distributing_top(tmp_pa
     """analysis.nlgeom false, no radial stop: the project's own penalty (node-to-surface) and mortar decks, as
     rendered, agree with the reference within 2 % of the peak at every increment, past liftoff included."""
     model = load(None, SMALL + ["contact.stop.side=none"])
-    run_job(model, tmp_path, with_ccx=True, echo=lambda s: None)
+    run_job_tables(model, tmp_path, with_ccx=True, echo=lambda s: None)
     for deck in ("JAR_ccx_penalty.inp", "JAR_ccx_lagrange.inp"):
         steps = [ln for ln in (tmp_path / "ccx" / deck).read_text().splitlines() if ln.startswith("*STEP")]
         assert len(steps) == 2 and not any("NLGEOM" in ln for ln in steps), deck
