@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import os
 import sys
-import time
 import tracemalloc
 
 import pytest
@@ -31,9 +30,7 @@ BOMB = ('title: &a ["lol","lol","lol","lol","lol","lol","lol","lol","lol"]\n'
 def test_alias_bomb_in_a_model_file_is_refused_at_once(tmp_path):
     p = tmp_path / "bomb.yaml"
     p.write_text(BOMB)
-    t0 = time.perf_counter()
     one_error_line(cli(["decks", p, "-o", tmp_path / "o"]), 2, "anchors (&name) are not allowed")
-    assert time.perf_counter() - t0 < 5
     assert not (tmp_path / "o").exists()
 
 
@@ -64,13 +61,11 @@ def test_escape_and_shorten_any_value():
 def test_memory_estimate_refuses_a_million_azimuths_without_allocating(monkeypatch):
     monkeypatch.delenv(limits.ALLOW_ENV, raising=False)
     tracemalloc.start()
-    t0 = time.perf_counter()
     res = cli(["decks", "--set", "mesh.n_theta=1000000", "-o", "never"])
-    elapsed = time.perf_counter() - t0
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     one_error_line(res, 2, "279,000,000 dofs need about")
-    assert elapsed < 1.0 and peak < 20e6
+    assert peak < 20e6          # refused from the estimate: the 279M-dof mesh is never built (no timed assert)
     assert "--allow-large" in res.stderr
 
 
@@ -103,9 +98,7 @@ def test_allow_large_passes_the_estimate(monkeypatch):
 ])
 def test_unbounded_work_is_refused_before_it_starts(tmp_path, args, needle):
     os.chdir(tmp_path)
-    t0 = time.perf_counter()
     one_error_line(cli(args), 2, needle)
-    assert time.perf_counter() - t0 < 5
     assert not (tmp_path / "o").exists()
 
 
