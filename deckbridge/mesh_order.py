@@ -283,11 +283,10 @@ def top_weights(faces, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 # wedge15 0.01 / 0.18 (Lagrange, steps 1 / 2), tet10 0.23, hex20 / hex20r 2.5 (Lagrange, corner nodes open at
 # step 1) and 1.5-2.7 (penalty, every element type with mid-side nodes): the nodal law is unusable there, so
 # build_problem gives quadratic faces the face-weighted laws (reference_solver/face_law.py; with friction
-# reference_solver/friction_face.py, not through solve / run yet: solve.check_solvable).
-QUADRATIC_REFUSED = ("with contact.tangential = friction: not through deckbridge's solve and run yet (the reference "
-                     "solver's face-weighted friction law, reference_solver/friction_face.py, is verified for Lagrange; "
-                     "its penalty form does not settle at the stiff k-factors of run's penalty verdict): use "
-                     "contact.tangential = springs, or hex8i / hex8 / tet4, or the CalculiX mortar deck")
+# reference_solver/friction_face.py; refused with the radial stop: solve.check_solvable).
+QUADRATIC_REFUSED = ("with contact.tangential = friction on quadratic contact faces: not with the radial stop (a base "
+                     "corner's tangential axis is the stop's normal, one dof that cannot take two weightings; "
+                     "reference_solver/friction_face.py): set contact.stop.side = none, or use hex8i / hex8 / tet4")
 # The face-weighted law is verified against closed forms in full contact and at a rigid top's liftoff, and
 # against fine hex8i skirts past liftoff (docs/elements.md; tests/test_face_weighted_skirt.py and
 # tests/test_face_weighted_liftoff.py), so solves on quadratic faces no longer warn.

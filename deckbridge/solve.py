@@ -42,21 +42,22 @@ SOURCE = "reference"
 
 
 def check_solvable(model: Model, mesh: SkirtMesh) -> None:
-    """Refuse (ModelError naming the element key) what deckbridge's reference solve does not run on this mesh:
-    friction on quadratic contact faces (:data:`deckbridge.mesh_order.QUADRATIC_REFUSED`: the face-weighted friction
-    law of reference_solver/friction_face.py is verified for Lagrange, its penalty form does not settle at the
-    stiff k-factors of ``run``'s penalty verdict). Called by :func:`build_problem` and by the job before it writes
-    anything."""
-    if mesh.quadratic_faces and model.contact.tangential == "friction":
+    """Refuse (ModelError naming ``contact.stop.side``) what deckbridge's reference solve does not run on this mesh:
+    friction on quadratic contact faces with the radial stop (:data:`deckbridge.mesh_order.QUADRATIC_REFUSED`: the
+    face-weighted friction law of reference_solver/friction_face.py cannot weigh a base corner's tangential axis that
+    is the stop's normal). Friction on those faces without the stop solves (penalty, Lagrange, augmented). Called by
+    :func:`build_problem` and by the job before it writes anything."""
+    if mesh.quadratic_faces and model.contact.tangential == "friction" and model.contact.stop.side != "none":
         from .mesh_order import QUADRATIC_REFUSED
-        raise ModelError(*element_key(model, mesh), QUADRATIC_REFUSED)
+        raise ModelError("contact.stop.side", model.contact.stop.side,
+                         f"{QUADRATIC_REFUSED} ({'='.join(element_key(model, mesh))})")
 
 
 def build_problem(model: Model, mesh: SkirtMesh | None = None) -> rs.Problem:
     """Translate the model and its mesh into the solver's arrays (the mesh's element type). Quadratic contact
     faces get the face-weighted laws (``contact_weighting='face'``: Lagrange through the mortar matrix, penalty
-    integrated over the faces, reference_solver/face_penalty.py; friction refused by :func:`check_solvable`; the
-    friction problem, once allowed, takes CalculiX's dual basis, ``'face-dual'`` with its shares as the rows'
+    integrated over the faces, reference_solver/face_penalty.py; with the radial stop friction is refused by
+    :func:`check_solvable`; the friction problem takes CalculiX's dual basis, ``'face-dual'`` with its shares as the rows'
     areas: reference_solver/friction_face.py)."""
     mesh = mesh or build_mesh(model)
     weighting = "face" if mesh.quadratic_faces else "nodal"   # issue 23: face_law.py, face_penalty.py

@@ -208,7 +208,8 @@ def _law_rows(system, sol) -> tuple[Callable, np.ndarray]:
     if getattr(p, "contact_weighting", "nodal") == "nodal" or sol.method != "lagrange":
         return (lambda gap, force, closed: (gap, force, closed)), np.diag(S)[:system.n_contacts].copy()
     from .face_law import FaceWeighting
-    W = FaceWeighting(p, S)
+    nc = system.n_contacts                   # friction (friction_face.py): S~'s normal block is D^-T S_nn D^-1
+    W = FaceWeighting(p, np.asarray(S)[:nc, :nc])
     return (lambda gap, force, closed: (W.weigh(np.asarray(gap, float)), W.to_pressure(force), closed)), np.diag(W.S).copy()
 
 

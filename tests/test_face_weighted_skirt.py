@@ -67,12 +67,12 @@ def test_quadratic_skirt_full_contact_against_beam_theory(element):
     assert err < _wall_error("hex8i")[0] + 0.005      # within 0.5 % of hex8i on the same mesh (0.0007)
 
 
-def test_friction_refused_on_quadratic_faces():
-    """(penalty on quadratic faces is the face-integrated penalty law: tests/test_face_penalty_skirt.py; the
+def test_friction_refused_on_quadratic_faces_with_the_stop():
+    """Friction with the radial stop (the default) on 8-/6-node faces (penalty on quadratic faces is the face-integrated penalty law: tests/test_face_penalty_skirt.py; the
     reference solver's face-weighted friction law: tests/test_friction_quadratic*.py)"""
     f = load(None, ["mesh.element=tet10", "mesh.n_theta=24", "mesh.n_z=3", "mesh.n_r=1",
                     "contact.tangential=friction", "contact.friction=0.3"])
-    with pytest.raises(ModelError, match=r"^mesh.element = 'tet10'.*face-weighted friction.*verified for Lagrange"):
+    with pytest.raises(ModelError, match=r"^contact.stop.side = 'inner'.*radial stop.*mesh.element=tet10"):
         build_problem(f)
 
 

@@ -37,8 +37,7 @@ SKIRT = ["contact.stop.side=none", "load_introduction=kinematic", "outputs.vtu=f
 
 def _friction_path(model, **path):
     """The reference Lagrange path of ``model`` (frictionless) with Coulomb friction mu on its table in ccx's dual
-    basis, the problem ``build_problem`` will give once deckbridge's solve takes friction on these faces
-    (``solve.check_solvable`` refuses it there today): (mesh, problem, solution)."""
+    basis, the problem ``build_problem`` gives with contact.tangential = friction: (mesh, problem, solution)."""
     mesh = build_mesh(model)
     p = build_problem(model, mesh)
     p = dual_shares(dataclasses.replace(p, tangential="friction", friction=MU, spring_nodes=p.spring_nodes[:0],

@@ -3,7 +3,7 @@
 - units: the model is SI whatever its ``units`` (the deck units), so the reference results must not change; the
   decks (CalculiX mortar and face-to-face, Abaqus, Nastran surface) must carry every number converted; what ccx
   computes in mm must read back as the SI run (to ccx's printed digits);
-- friction on 8-/6-node faces: the face-weighted laws are frictionless, refused in one line naming the key;
+- friction on 8-/6-node faces with the radial stop: refused in one line naming the key;
 - the reference's own face-penalty folder of a quadratic skirt reads back through the contact-law check.
 Set-up and helpers: tests/test_quadratic_offpath.py.
 """
@@ -219,19 +219,20 @@ def test_ccx_forces_add_up_to_n_and_carry_the_moment(ccx_tables, deck):
 
 @pytest.mark.parametrize("element", ["hex20r", "tet10", "hex20", "wedge15"])
 def test_friction_on_quadratic_faces_refused_in_one_line_naming_the_key(tmp_path, element):
-    """The face-weighted laws are frictionless (docs/elements.md): the reference solve and ``run`` refuse
-    contact.tangential = friction on a quadratic skirt before any work, in one line naming mesh.element and
-    contact.tangential."""
+    """Friction on 8-/6-node faces solves without the radial stop (tests/test_friction_quadratic_skirt.py); with
+    the stop the reference solve and ``run`` refuse it before any work, in one line naming contact.stop.side and
+    the element (a base corner's tangential axis is the stop's normal: reference_solver/friction_face.py)."""
     from deckbridge.errors import ModelError
     from deckbridge.job import run_job
     from deckbridge.solve import solve_model
-    m = _model(element, 0.005, 16, 2, 1, "contact.tangential=friction", "contact.friction=0.3")
+    m = _model(element, 0.005, 16, 2, 1, "contact.tangential=friction", "contact.friction=0.3",
+               "contact.stop.side=inner")
     for job in (lambda: solve_model(m, "lagrange"), lambda: solve_model(m, "penalty"),
                 lambda: run_job(m, tmp_path / "run", with_ccx=False, echo=lambda s: None)):
         with pytest.raises(ModelError) as err:
             job()
         msg = str(err.value)
-        assert "\n" not in msg and msg.startswith(f"mesh.element = '{element}'") and "contact.tangential" in msg
+        assert "\n" not in msg and msg.startswith("contact.stop.side = 'inner'") and f"mesh.element={element}" in msg
     # refused before anything is written (job.run_job: solve.check_solvable before the output folder)
     assert not list(tmp_path.rglob("*"))
 
