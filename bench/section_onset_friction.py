@@ -14,7 +14,7 @@ from deckbridge.wall_stress import reference_section_onset
 import reference_solver.path as rp
 
 FRICTION = ["contact.tangential=friction", "contact.friction=0.3"]
-if sys.argv[1:2] == ["default"]:                  # the default model with mu = 0.3 (tests/test_friction_section_onset.py)
+if sys.argv[1:2] == ["default"]:    # the default model with mu = 0.3 (tests/test_friction_section_onset.py)
     model = load(None, FRICTION)
     nt, nz, nr = model.mesh.n_theta, model.mesh.n_z, model.mesh.n_r
 else:
