@@ -214,7 +214,7 @@ def _law_rows(system, sol) -> tuple[Callable, np.ndarray]:
 
 
 def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[float], tuple],
-                  tol: float = 1e-9) -> tuple[float | None, int | None]:
+                  tol: float = 1e-9, bisect: bool = False) -> tuple[float | None, int | None]:
     """(lambda, group index) of the first load factor of step 2 at which a whole group is open, or
     (None, None) when none opens along ``sol``. ``groups``: row indices (into the contact rows) of each
     group; ``sol`` the solved path; ``state_at(lam)`` the (gap, force, closed) rows of the state at ``lam``
@@ -224,7 +224,9 @@ def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[flo
     m_i = gap_i - force_i / S_ii (a closed exact row has gap 0 and force > 0; a penalty row's gap is
     negative while closed; the face-weighted Lagrange in its own variables, :func:`_law_rows`), continuous and piecewise linear in lambda: Illinois regula falsi, exact once
     the bracket lies in one linear piece, bisection steps as fallback, to ``tol`` on lambda or |phi| <
-    1e-12 of its scale."""
+    1e-12 of its scale. ``bisect``: bisection steps only (a path-dependent law: phi is curved and each state
+    costs a friction increment; regula falsi crept from one end, 60 states on the 24 x 6 x 3 friction skirt,
+    where bisection needs log2(bracket / tol), 10 for the 0.1 bracket to 1e-4)."""
     law_rows, diag = _law_rows(system, sol)
     raw_state_at = state_at
     state_at = lambda lam: law_rows(*raw_state_at(lam))        # noqa: E731
@@ -259,7 +261,7 @@ def section_onset(system, sol, groups: list[np.ndarray], state_at: Callable[[flo
         if hi - lo <= tol:
             break
         x = lo - f_lo * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
-        if not (lo < x < hi):
+        if not (lo < x < hi) or bisect:
             x = 0.5 * (lo + hi)
         m, up = state(x)
         fx = float(m.max())

@@ -27,6 +27,7 @@ from .threads import with_blas_threads
 
 CUTBACKS = 5             # an increment that does not converge is halved up to this many times
 ONSETS = ("auto", "bisection", "off")
+SECTION_TOL = 1e-9       # the whole-section onset's tolerance on lambda (path-independent laws: exact pieces)
 
 
 @dataclass
@@ -159,8 +160,8 @@ def solve_path(system, method: str = "penalty", k_factor: float = 1.0, *,
     return sol
 
 
-def _restarted_state_at(system, sol: Solution, base, ramp) -> Callable[[float], tuple]:
-    """``state_at(lam)`` of a path-dependent law along ``sol``: one increment (cut back like
+def _restarted_state_at(system, sol: Solution, base, ramp) -> tuple[Callable[[float], tuple], object]:
+    """(``state_at(lam)``, the law) of a path-dependent law along ``sol``: one increment (cut back like
     :func:`solve_path`'s, gross slip raised the same way) from the converged state at the largest load factor
     below ``lam`` among ``sol``'s step-2 increments (never from another search point: a chain of them would
     make the state depend on the search's order, not on ``lam`` alone)."""
@@ -177,8 +178,10 @@ def _restarted_state_at(system, sol: Solution, base, ramp) -> Callable[[float], 
             raise no_equilibrium(2, lam) from None
 
     def state_at(lam: float):
-        a, a_st = max(((lf, st) for lf, st in known if lf < lam), key=lambda r: r[0])
-        st, slide = reach(run, a_st, a, lam, None, abs(lam), lambda b: no_equilibrium(2, b))
+        below = sorted(((lf, st) for lf, st in known if lf < lam), key=lambda r: r[0])
+        (a, a_st), back = below[-1], below[-2] if len(below) > 1 and below[-2][0] < below[-1][0] else None
+        guess = None if back is None else a_st.x + (lam - a) / (a - back[0]) * (a_st.x - back[1].x)
+        st, slide = reach(run, a_st, a, lam, guess, abs(lam), lambda b: no_equilibrium(2, b))
         if slide is not None:
             err = GrossSlip(f"step 2, load factor {lam:.6g}: the load slides the body (gross slip from "
                             f"load factor {slide:.6g}; friction cannot carry the tangential load)")
@@ -189,18 +192,25 @@ def _restarted_state_at(system, sol: Solution, base, ramp) -> Callable[[float], 
                                        f"(every contact row is open)")
         arr = law.arrays([st], co(lam)[None])
         return arr["gap"][0], arr["force"][0], arr["closed"][0]
-    return state_at
+    return state_at, law
 
 
 def section_onset(system, sol: Solution, groups: list[np.ndarray], *, base: Mapping[str, float] | None = None,
-                  ramp: Mapping[str, float] | None = None, tol: float = 1e-9) -> tuple[float | None, int | None]:
+                  ramp: Mapping[str, float] | None = None, tol: float | None = None) -> tuple[float | None, int | None]:
     """The whole-section onset of :func:`reference_solver.onset.section_onset` along ``sol``: (lambda, group
     index), each state the end of a one-increment path with ``sol``'s method, k-factor and algorithm
     (``base``/``ramp`` as given to :func:`solve_path`, defaults the same). A path-dependent law (friction,
     ``sol.path_states`` kept): each state is one increment from the converged state at the largest load
-    factor below it among ``sol``'s increments (the bracket's lower end) instead of from lambda = 0."""
+    factor below it among ``sol``'s increments (the bracket's lower end) instead of from lambda = 0.
+    ``tol`` on lambda; None: 1e-9, and for a path-dependent law the first-node onset's resolution
+    ``law.onset_floor`` x the path's largest load factor (friction: SLIDE_TOL = 1e-4; each search point is a
+    friction increment, and its state is defined to that resolution only: a finer search cost ~25 restarts)."""
     if sol.path_states:
-        return _section_onset(system, sol, groups, _restarted_state_at(system, sol, base, ramp), tol)
+        state_at, law = _restarted_state_at(system, sol, base, ramp)
+        if tol is None:
+            tol = max(SECTION_TOL, law.onset_floor * float(np.max(np.abs(sol.load_factor))))
+        return _section_onset(system, sol, groups, state_at, tol, bisect=True)
+    tol = SECTION_TOL if tol is None else tol
 
     def state_at(lam: float):
         s = solve_path(system, sol.method, sol.k_factor or 1.0, base=base, ramp=ramp, lambda_max=lam, increments=1,

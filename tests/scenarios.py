@@ -5,7 +5,7 @@ case run through the decks, the reference solver (both methods) and CalculiX, in
 every two factors appears in at least one case, except the pairs that :data:`CONSTRAINTS` forbids (known
 refused combinations, asserted as refusals by :data:`REFUSED`). :func:`run_case` runs one case with the
 project's own job (:func:`deckbridge.job.run_job`, report drawing left out: it is not under test here and
-costs half the time; on friction cases the whole-section onset too, which no invariant reads) and returns what
+costs half the time; the whole-section onset runs as users get it, friction cases included) and returns what
 the invariants of :mod:`scenario_checks` read.
 """
 
@@ -225,18 +225,6 @@ def _mortar_min_increment(dt_min: float):
     return mock.patch.object(runner, "run", run)
 
 
-def _no_friction_section_onset(case: Case):
-    """On a friction case, the reference's whole-section onset left out of the job (None, None: "no whole section
-    lifts"): no invariant of :mod:`scenario_checks` reads it, and on a friction path it is ~25 one-increment
-    restarts per method (deckbridge.wall_stress.reference_section_onset), half of the case's run (TestCase06:
-    107 s of 203 s, cProfile). Its own test against the friction path: tests/test_friction_section_onset.py.
-    A frictionless case keeps it (exact and cheap there), and so does a quadratic case (8-/6-node faces: the job
-    checks it against ccx's dual basis, deckbridge/onset_basis.py)."""
-    if case.levels["tangential"] != "friction" or "element" in case.levels:
-        return contextlib.nullcontext()
-    return mock.patch("deckbridge.job.reference_section_onset", return_value=(None, None))
-
-
 def run_case(case: Case, folder: Path, mortar_min_increment: float | None = None) -> Run:
     """Load the case's model and run the job with CalculiX into ``folder``/job (report drawing left out).
     ``mortar_min_increment``: raise the ccx mortar deck's minimum increment [step time] to it (a case known
@@ -248,8 +236,7 @@ def run_case(case: Case, folder: Path, mortar_min_increment: float | None = None
         run.overrides = tuple(case.overrides(case.mesh_files(folder)))
         run.model = load(None, list(run.overrides))
         cap = _mortar_min_increment(mortar_min_increment) if mortar_min_increment else contextlib.nullcontext()
-        with (mock.patch("deckbridge.job.write_report_with_verdict", return_value=[]), cap,
-              _no_friction_section_onset(case)):
+        with mock.patch("deckbridge.job.write_report_with_verdict", return_value=[]), cap:
             res = run_job(run.model, run.out, with_ccx=True, echo=lines.append)
     except Exception as exc:                     # the invariant "no traceback" reads it
         run.error = f"{type(exc).__name__}: {exc}".splitlines()[0]

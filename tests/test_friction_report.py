@@ -2,11 +2,9 @@
 applied shear T lambda (balance of forces), the Coulomb bound mu F_n per row, and friction.csv itself
 for the figure data in summary.json; a run without friction writes neither."""
 
-import contextlib
 import copy
 import json
 from functools import lru_cache
-from unittest import mock
 
 import numpy as np
 import pandas as pd
@@ -25,16 +23,11 @@ METHODS = ("penalty", "lagrange")
 
 @lru_cache(maxsize=None)
 def _run(tmp: str, *sets: str):
-    """``deckbridge run`` once per set of overrides. With friction, the reference's whole-section onset is left
-    out (None: the summary's section_liftoff_* and the report's "whole section" line read "none"): no test
-    here reads it, and on a friction path it is ~25 one-increment restarts per method, much of the run
-    (tests/test_friction_section_onset.py tests it; the comparison points use the first-node onset)."""
+    """``deckbridge run`` once per set of overrides, as users run it (with friction the whole-section onset
+    too: tests/test_friction_section_onset.py)."""
     out = f"{tmp}/job_{abs(hash(sets))}"
     args = [a for s in sets for a in ("--set", s)]
-    onset = (mock.patch("deckbridge.job.reference_section_onset", return_value=(None, None))
-             if "contact.tangential=friction" in sets else contextlib.nullcontext())
-    with onset:
-        res = CliRunner().invoke(main, ["run", *args, "-o", out])
+    res = CliRunner().invoke(main, ["run", *args, "-o", out])
     assert res.exit_code == 0, res.output
     from pathlib import Path
     return Path(out), load(None, list(sets))
@@ -219,7 +212,7 @@ def test_a_solution_that_breaks_the_coulomb_law_is_said_on_the_console(tmp_path,
 
     # The same command again, its solver output broken by hand. The solver is not run a second time: the
     # same call (asserted) gets the first run's solution (a copy), and the whole-section onset the first run
-    # found (36 friction states, each one increment from the path's state below it; it reads gaps and
+    # found (friction states bisected to SLIDE_TOL, each one increment from the path's state below it; it reads gaps and
     # normal forces only, which the row broken here leaves as they were) - the rest of `solve` runs on them.
     def one_row_beyond_the_cone(*a, **kw):
         assert (a[1:], _without_progress(kw)) == first["call"]
