@@ -158,10 +158,12 @@ def test_messages_name_the_file_and_its_types(tmp_path, second):
         for dialect in ("calculix", "abaqus", "nastran"):
             why = element_problem(dialect, m, mesh)
             assert why.startswith(f"mesh.file = skirt.inp ({types}): ") and "hex8i" not in why, why
-        fric = _model(files, "inp", "contact.tangential=friction", "contact.friction=0.3")
-        with pytest.raises(ModelError, match=rf"^mesh\.file = 'skirt\.inp \({types.replace('+', '[+]')}\)': "
-                                              "with contact.tangential = friction"):
+        fric = _model(files, "inp", "contact.stop.side=inner", "contact.tangential=friction", "contact.friction=0.3")
+        with pytest.raises(ModelError) as refused:          # friction with the stop: the one refusal left there
             build_problem(fric, build_mesh(fric))
+        why = str(refused.value)
+        assert why.startswith("contact.stop.side = 'inner': with contact.tangential = friction"), why
+        assert why.endswith(f"(mesh.file=skirt.inp ({types}))") and "hex8i (" not in why, why
 
 
 def test_outputs_and_decks_of_a_mixed_mesh(tmp_path, first):
