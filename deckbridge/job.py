@@ -20,6 +20,7 @@ reader, ``wall_reader``, ``series_writer``), never by its name; the mesh is buil
 
 from __future__ import annotations
 
+import functools
 import shutil
 import time
 from pathlib import Path
@@ -41,7 +42,7 @@ from .outdir import prepare, replacing
 from .render import render_all
 from .readers import read
 from .readers.reference import solution_globals
-from .reference_dual import mortar_series, wants_mortar_dual
+from .reference_dual import dual_lagrange, mortar_series, wants_mortar_dual
 from .reference_f2f import f2f_series, wants_f2f
 from .studies.verdict import write_report_with_verdict
 from .report.caveats import reference_caveats
@@ -93,13 +94,14 @@ def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: flo
     echo(f"reference solver: {system.dofs} dofs, {system.n_contacts} contact rows, "
          f"condensed in {time.perf_counter() - t0:.1f} s")
     tables, origins, summaries = [], [], {}
+    solve_dual = functools.cache(lambda: dual_lagrange(model, mesh, system))   # once: onsets, ccx/mortar
     for method in methods:
         df, summary, sol = solve_system(model, mesh, system, method, recover=False)
         folder = out / f"reference_{method}"
         lam_s, th_s = reference_section_onset(system, mesh, sol)
         summary[K.SECTION_LIFTOFF_LOAD_FACTOR], summary[K.SECTION_LIFTOFF_THETA_DEG] = lam_s, th_s
         summary["caveats"] = reference_caveats(model, mesh, system, sol)
-        basis_warning = basis_check(model, mesh, system, summary)   # 8-/6-node faces: hat vs dual onsets
+        basis_warning = basis_check(model, mesh, system, summary, solve_dual)   # 8-/6-node faces: hat vs dual onsets
         if basis_warning:
             echo(basis_warning)
         U = path_fields(system, sol)             # the one recovery of every row: wall, VTUs, the report's globals
@@ -118,7 +120,7 @@ def _job(model: Model, out: Path, mesh, chosen: list, echo: Echo, timeout_s: flo
         origins.append(origin)
     if wants_mortar_dual(model, mesh, chosen, out / "decks"):   # ccx/mortar's partner: ccx's multiplier basis
         origin = f"{out / 'reference_lagrange'} (ccx's dual basis)"
-        tables.append(mortar_series(model, mesh, system, origin))
+        tables.append(mortar_series(model, mesh, system, origin, solve_dual()))
         origins.append(origin)
 
     for d in chosen:                            # its decks, its runner, its reader, its wall and series

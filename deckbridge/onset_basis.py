@@ -28,14 +28,14 @@ DISAGREE = 0.05          # relative difference of the two bases' onsets that war
                          # where the mesh is fit for the onset, 6-100 % where it is not)
 
 
-def dual_basis_onsets(model, mesh, system) -> tuple[float | None, float | None]:
+def dual_basis_onsets(model, mesh, system, solve_dual=None) -> tuple[float | None, float | None]:
     """(first-node, whole-section) liftoff load factors of the model's Lagrange path in ccx's dual basis on the
-    condensed ``system`` (no re-condensing; None where nothing lifts up to steps.lambda_max)."""
-    from .reference_dual import dual_system
-    from .solve import solve_path
+    condensed ``system`` (no re-condensing; None where nothing lifts up to steps.lambda_max). ``solve_dual()``:
+    the job's one solve of that path (:func:`deckbridge.reference_dual.dual_lagrange`, shared with ccx/mortar's
+    partner), else solved here."""
+    from .reference_dual import dual_lagrange
     from .wall_stress import reference_section_onset
-    dual = dual_system(system)
-    sol = solve_path(model, dual, LAGRANGE, recover=False)
+    dual, _, _, sol = solve_dual() if solve_dual is not None else dual_lagrange(model, mesh, system)
     return sol.liftoff_load_factor, reference_section_onset(dual, mesh, sol)[0]
 
 
@@ -45,14 +45,15 @@ def _differ(a: float | None, b: float | None) -> bool:
     return abs(a - b) > DISAGREE * max(abs(a), abs(b), 1e-12)
 
 
-def basis_check(model, mesh, system, summary: dict) -> str | None:
+def basis_check(model, mesh, system, summary: dict, solve_dual=None) -> str | None:
     """Add the dual-basis onsets to a face-weighted Lagrange ``summary`` (its liftoff_load_factor and
     section_liftoff_load_factor are the hat basis's) and return a one-line warning where they disagree by more
-    than DISAGREE, else None. Nothing (None) for a nodal problem (4-/3-node faces) or another method."""
+    than DISAGREE, else None. Nothing (None) for a nodal problem (4-/3-node faces) or another method.
+    ``solve_dual``: as :func:`dual_basis_onsets`."""
     if system.problem.contact_weighting != "face" or summary.get("method") != LAGRANGE:
         return None
     try:
-        first, section = dual_basis_onsets(model, mesh, system)
+        first, section = dual_basis_onsets(model, mesh, system, solve_dual)
     except DeckbridgeError as exc:              # a check only: the job's own solutions stand
         return f"  note: the onset check in ccx's dual basis did not run ({str(exc).splitlines()[0]})"
     summary[K.DUAL_BASIS_LIFTOFF_LOAD_FACTOR], summary[K.DUAL_BASIS_SECTION_LIFTOFF_LOAD_FACTOR] = first, section

@@ -49,11 +49,19 @@ def dual_system(system):
     return dataclasses.replace(system, problem=dataclasses.replace(p, contact_area=area))
 
 
-def mortar_series(model, mesh, system, origin: str) -> SourceResult:
-    """The reference Lagrange of ``model`` in ccx's multiplier basis on its condensed ``system`` (no re-condensing)
-    as one source of a comparison (``origin``: where the job's reference results live)."""
+def dual_lagrange(model, mesh, system) -> tuple:
+    """The Lagrange path of ``model`` in ccx's multiplier basis on its condensed ``system`` (no re-condensing):
+    (dual system, table, summary, solution). One solve serves the job's onset check (deckbridge/onset_basis.py)
+    and ccx/mortar's partner (:func:`mortar_series`)."""
     dual = dual_system(system)
-    df, summary, sol = solve_system(model, mesh, dual, LAGRANGE, recover=False)
+    return (dual, *solve_system(model, mesh, dual, LAGRANGE, recover=False))
+
+
+def mortar_series(model, mesh, system, origin: str, solved: tuple | None = None) -> SourceResult:
+    """The reference Lagrange of ``model`` in ccx's multiplier basis on its condensed ``system`` (no re-condensing)
+    as one source of a comparison (``origin``: where the job's reference results live); ``solved``: that path
+    already solved by :func:`dual_lagrange` (else solved here)."""
+    dual, df, summary, sol = solved if solved is not None else dual_lagrange(model, mesh, system)
     df["method"] = METHOD
     summary["method"] = METHOD
     return SourceResult(df, origin, summary=summary, wall=reference_wall(dual, mesh, sol))
