@@ -230,6 +230,25 @@ def _on_frd_time(t: float, frd_times: np.ndarray) -> float:
 MASTER_SETS = ("NMTOP", "NMCOPY")      # the f2f deck's clamped master nodes whose RF it prints (templates/calculix)
 
 
+def _master_reactions(inp):
+    """(ccx time [s] on the ``.frd``'s clock, node coordinates (n, 3) [m], reactions RF (n, 3) [N]) of each printed
+    block of the face-to-face deck's clamped master ring (``inp``: its deck; :data:`MASTER_SETS`), SI; raises
+    when the ``.dat`` has none."""
+    inp = Path(inp)
+    u = scale(_read_meta(inp)[0].get("units") or "SI")
+    coords, frd_blocks = _frd_blocks(inp.with_suffix(".frd"))
+    times = np.array(sorted({b["time"] for b in frd_blocks}))
+    blocks = [b for b in _dat_blocks(inp.with_suffix(".dat"))
+              if b["kind"] == "forces" and b["set"] in MASTER_SETS and b["values"]]
+    if not blocks:
+        raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
+                              f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
+    for b in blocks:
+        nodes = list(b["values"])
+        yield (_on_frd_time(b["time"], times), np.array([coords[n] for n in nodes]) / u.length,
+               np.array([b["values"][n] for n in nodes]) / u.force)
+
+
 def f2f_master_resultant(inp) -> dict[float, tuple[np.ndarray, np.ndarray]]:
     """The exact contact resultant of a face-to-face job (``inp``: its deck; the ``.dat`` and ``.frd`` beside it)
     on 8-/6-node faces, per printed ccx time [s] (the ``.frd``'s): (force (3,) [N], moment (3,) [N m] about the
@@ -239,22 +258,10 @@ def f2f_master_resultant(inp) -> dict[float, tuple[np.ndarray, np.ndarray]]:
     so its elements stay unstrained and the reactions RF at its nodes are the contact forces on the master,
     consistent over its bilinear faces: their sum and moment are the contact resultant's to the printed digits.
     Needs the deck's ``*NODE PRINT`` RF of both sets."""
-    inp = Path(inp)
-    u = scale(_read_meta(inp)[0].get("units") or "SI")
-    coords, frd_blocks = _frd_blocks(inp.with_suffix(".frd"))
-    times = np.array(sorted({b["time"] for b in frd_blocks}))
     out: dict[float, tuple[np.ndarray, np.ndarray]] = {}
-    for b in _dat_blocks(inp.with_suffix(".dat")):
-        if b["kind"] == "forces" and b["set"] in MASTER_SETS and b["values"]:
-            nodes = list(b["values"])
-            f = np.array([b["values"][n] for n in nodes]) / u.force
-            x = np.array([coords[n] for n in nodes]) / u.length
-            t = _on_frd_time(b["time"], times)
-            F, M = out.get(t, (np.zeros(3), np.zeros(3)))
-            out[t] = (F + f.sum(axis=0), M + np.cross(x, f).sum(axis=0))
-    if not out:
-        raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
-                              f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
+    for t, x, f in _master_reactions(inp):
+        F, M = out.get(t, (np.zeros(3), np.zeros(3)))
+        out[t] = (F + f.sum(axis=0), M + np.cross(x, f).sum(axis=0))
     return out
 
 
@@ -264,23 +271,10 @@ def f2f_master_lines(inp, n_theta: int) -> dict[float, np.ndarray]:
     of the ring's top nodes (NMTOP, NMCOPY) at that azimuth summed, SI. Exact like
     :func:`f2f_master_resultant` (clamped ring: RF is the contact force on its nodes), and what the reference
     gives as :func:`deckbridge.reference_f2f.ring_line_forces`; unlike CPRESS, no extrapolation."""
-    inp = Path(inp)
-    u = scale(_read_meta(inp)[0].get("units") or "SI")
-    coords, frd_blocks = _frd_blocks(inp.with_suffix(".frd"))
-    times = np.array(sorted({b["time"] for b in frd_blocks}))
     out: dict[float, np.ndarray] = {}
-    for b in _dat_blocks(inp.with_suffix(".dat")):
-        if b["kind"] == "forces" and b["set"] in MASTER_SETS and b["values"]:
-            nodes = list(b["values"])
-            fz = np.array([b["values"][n][2] for n in nodes]) / u.force
-            x = np.array([coords[n] for n in nodes])
-            j = np.rint((np.arctan2(x[:, 1], x[:, 0]) % (2 * np.pi)) * n_theta / (2 * np.pi)).astype(int) % n_theta
-            t = _on_frd_time(b["time"], times)
-            acc = out.setdefault(t, np.zeros(n_theta))
-            np.add.at(acc, j, fz)
-    if not out:
-        raise DeckbridgeError(f"{str(inp.with_suffix('.dat'))!r}: no RF of the master ring (*NODE PRINT of "
-                              f"{' / '.join(MASTER_SETS)}) of a face-to-face job")
+    for t, x, f in _master_reactions(inp):
+        j = np.rint((np.arctan2(x[:, 1], x[:, 0]) % (2 * np.pi)) * n_theta / (2 * np.pi)).astype(int) % n_theta
+        np.add.at(out.setdefault(t, np.zeros(n_theta)), j, f[:, 2])
     return out
 
 
